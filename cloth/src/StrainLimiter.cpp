@@ -1,0 +1,56 @@
+#include "crowdcloth/cloth/StrainLimiter.h"
+
+#include <algorithm>
+#include <atomic>
+
+namespace cc::cloth {
+
+StrainLimiter::StrainLimiter(uint32_t vertexCount, std::vector<LimitedEdge> edges) {
+    for (const LimitedEdge& e : edges) mStencils.vertices.push_back({e.a, e.b});
+    mEdges = permute(edges, mStencils.colour(vertexCount));
+}
+
+double StrainLimiter::maxStrain(const std::vector<Vec3>& x) const {
+    double worst = 0.0;
+    for (const LimitedEdge& e : mEdges) worst = std::max(worst, (x[e.b] - x[e.a]).norm() / e.restLength - 1.0);
+    return worst;
+}
+
+int StrainLimiter::apply(double limit, int maxPasses, double h, const ConstraintSet& constraints, ClothState& state,
+                         const ParallelSettings& parallel) const {
+    auto& x = state.positions;
+    auto& v = state.velocities;
+    auto weight = [&](uint32_t i) {
+        return constraints.kind(i) == ConstraintKind::Target ? 0.0 : 1.0 / state.masses[i];
+    };
+    const double tolerance = 1e-3 * limit;
+    int pass = 0;
+    for (; pass < maxPasses; ++pass) {
+        // Each colour's edges share no vertex, so they correct in parallel; the flag is only ever set.
+        std::atomic<bool> corrected{false};
+        for (std::size_t c = 0; c < mStencils.colourCount(); ++c) {
+            const int64_t first = mStencils.colourStart[c];
+            parallelFor(int64_t(mStencils.colourStart[c + 1]) - first, parallel, [&](int64_t b, int64_t e) {
+                for (int64_t k = first + b; k < first + e; ++k) {
+                    const LimitedEdge& edge = mEdges[k];
+                    const Vec3 d = x[edge.b] - x[edge.a];
+                    const double length = d.norm();
+                    const double maxLength = (1.0 + limit) * edge.restLength;
+                    if (length <= maxLength + tolerance * edge.restLength) continue;
+                    const double wa = weight(edge.a), wb = weight(edge.b);
+                    if (wa + wb == 0.0) continue;
+                    const Vec3 shift = (length - maxLength) / (length * (wa + wb)) * d;
+                    x[edge.a] += wa * shift;
+                    v[edge.a] += wa * shift / h;
+                    x[edge.b] -= wb * shift;
+                    v[edge.b] -= wb * shift / h;
+                    corrected.store(true, std::memory_order_relaxed);
+                }
+            });
+        }
+        if (!corrected.load()) break;
+    }
+    return pass;
+}
+
+} // namespace cc::cloth

@@ -1,0 +1,19 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace cc {
+
+/// FNV-1a over raw bytes: a bitwise digest of simulation state for determinism tests and replays.
+inline uint64_t hashBytes(const void* data, std::size_t size, uint64_t seed = 1469598103934665603ull) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    uint64_t h = seed;
+    for (std::size_t i = 0; i < size; ++i) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+} // namespace cc

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <cstdint>
+
+namespace cc {
+
+/// How much parallelism a kernel may use. 0 threads = OpenMP's default (OMP_NUM_THREADS).
+/// Results never depend on this number: kernels partition work so that every sum is taken in a
+/// fixed order (STYLE.md §6).
+struct ParallelSettings {
+    int maxThreads = 0;       ///< [-] upper bound on threads; 0 = OpenMP default, 1 = serial
+    int64_t minParallel = 2048; ///< [-] loops shorter than this run serially (fork cost)
+};
+
+namespace detail {
+void parallelForImpl(int64_t count, const ParallelSettings& settings, void* context,
+                     void (*body)(void*, int64_t begin, int64_t end));
+}
+
+/// Runs body(begin, end) over [0, count) in fixed contiguous chunks, possibly in parallel.
+/// The body must write only to data indexed by its own range.
+template <typename Body>
+void parallelFor(int64_t count, const ParallelSettings& settings, Body&& body) {
+    detail::parallelForImpl(count, settings, &body, [](void* ctx, int64_t begin, int64_t end) {
+        (*static_cast<Body*>(ctx))(begin, end);
+    });
+}
+
+} // namespace cc
