@@ -54,7 +54,7 @@ Result<std::unique_ptr<ClothSimulation>> ClothSimulation::create(const ClothMesh
     for (const auto& [a, b] : topology.value().edges) {
         edges.push_back({a, b, (mesh.restPositions[b] - mesh.restPositions[a]).norm()});
     }
-    sim.value()->mEdges = StrainLimiter(static_cast<uint32_t>(mesh.vertexCount()), std::move(edges));
+    sim.value()->mEdges = StrainLimiter(static_cast<uint32_t>(mesh.vertexCount()), std::move(edges), mesh.restPositions);
     return sim;
 }
 
@@ -106,6 +106,11 @@ Status ClothSimulation::init(std::unique_ptr<ForceModel> model, double damping) 
 Status ClothSimulation::step(double dt) {
     if (!(dt > 0.0 && dt <= 1.0)) {
         return Status::invalidArgument("ClothSimulation::step: dt = " + std::to_string(dt) + " s is outside (0, 1]");
+    }
+    // The host may write positions and velocities between steps: refuse to start from garbage.
+    if (const uint32_t bad = mState.firstNonFinite(); bad < mState.vertexCount()) {
+        return Status::invalidArgument("ClothSimulation::step: vertex " + std::to_string(bad) +
+                                       " has a non-finite position or velocity before the step");
     }
     mBackup.positions = mState.positions;
     mBackup.velocities = mState.velocities;

@@ -48,22 +48,23 @@ void ConstraintSet::clearContactPlanes() {
     }
 }
 
-VertexFilter ConstraintSet::filter(uint32_t v, const Vec3& x0, const Vec3& v0, double h, Vec3& outZ) const {
+VertexFilter ConstraintSet::filter(uint32_t v, const Vec3& x0, const Vec3& v0, double h, const Vec3& goal,
+                                   Vec3& outZ) const {
     VertexFilter f;
     f.kind = mKind[v];
     outZ.setZero();
     if (f.kind == ConstraintKind::Target) {
-        outZ = (mPoint[v] - x0) / h - v0;
+        outZ = (goal - x0) / h - v0;
     } else if (f.kind == ConstraintKind::ContactPlane) {
         const Vec3& n = mNormal[v];
-        const double depth = -(x0 - mPoint[v]).dot(n);  // > 0 when the vertex is inside
+        const double gap = (x0 - mPoint[v]).dot(n);  // < 0 when the vertex is inside
         const double vn = v0.dot(n);
-        if (depth <= 0.0 && vn >= 0.0) {
-            f.kind = ConstraintKind::Free;  // outside and leaving: no contact this step
+        if (gap > 0.0 && gap + h * vn >= 0.0) {
+            f.kind = ConstraintKind::Free;  // outside and not reaching the plane at its velocity
         } else {
+            // Inside: leave by the end of the step. Outside but crossing: land exactly on it.
             f.normal = n;
-            // The normal velocity after the step just removes the penetration (0 when touching).
-            outZ = n * (std::max(depth, 0.0) / h - vn);
+            outZ = n * (-gap / h - vn);
         }
     }
     return f;

@@ -68,7 +68,7 @@ Status SymplecticEulerIntegrator::step(double dt, const ConstraintSet& constrain
                     vi = (goal - x[i]) / h;
                 } else if (constraints.kind(i) == ConstraintKind::ContactPlane) {
                     Vec3 z;
-                    const VertexFilter f = constraints.filter(uint32_t(i), x[i], vi, h, z);
+                    const VertexFilter f = constraints.filter(uint32_t(i), x[i], vi, h, x[i], z);
                     if (f.kind == ConstraintKind::ContactPlane) vi = f.project(vi) + f.normal * (f.normal.dot(vi) + f.normal.dot(z));
                 }
                 v[i] = vi;

@@ -24,7 +24,9 @@ struct SimulationSettings {
     ImplicitEulerIntegrator::Settings implicit;
     SymplecticEulerIntegrator::Settings explicitEuler;
     double strainLimit = 0.0;               ///< [-] Provot limit on edge strain, e.g. 0.1; 0 = off; [0, 10]
-    int strainLimitPasses = 8;              ///< [-] maximum sweeps per step; >= 1
+    int strainLimitPasses = 8;              ///< [-] maximum sweeps per step; >= 1. Gauss-Seidel converges
+                                            ///< slowly near pins: on a 10 x 10 sheet hung by two
+                                            ///< corners, 8 sweeps hold 20%, 50 hold 11%, 200 hold 10%
     ParallelSettings parallel;
 
     /// Names the first invalid field.

@@ -53,7 +53,10 @@ public:
     /// released; a skinned attachment updates it each frame.
     Status setTarget(uint32_t v, const Vec3& position) { return pin(v, position); }
     /// Keeps vertex v on the side of the plane (point, normal) that the unit normal points to; it
-    /// may slide along the plane and leave it. Replaces any target. Cleared by clearContactPlanes().
+    /// may slide along the plane and leave it. A vertex inside is pushed out within the step; one
+    /// outside whose velocity would cross the plane lands on it. (Forces within the step, such as
+    /// gravity, can still carry a free vertex in by about h^2 |a|; the next step pushes it out.)
+    /// Replaces any target. Cleared by clearContactPlanes().
     Status setContactPlane(uint32_t v, const Vec3& point, const Vec3& normal);
     void release(uint32_t v);
     void clearContactPlanes();
@@ -64,9 +67,10 @@ public:
     const Vec3& planePoint(uint32_t v) const { return mPoint[v]; }
     const Vec3& planeNormal(uint32_t v) const { return mNormal[v]; }
 
-    /// The filter for a step of length h from (x0, v0), and z (the fixed part of dv).
-    /// A contact plane the vertex is leaving (outside and moving away) leaves it free.
-    VertexFilter filter(uint32_t v, const Vec3& x0, const Vec3& v0, double h, Vec3& outZ) const;
+    /// The filter for a step of length h from (x0, v0), and z (the fixed part of dv). A Target
+    /// vertex must reach `goal` (its target, or a point on the way there when a step is split).
+    /// A contact plane the vertex does not reach within the step leaves it free.
+    VertexFilter filter(uint32_t v, const Vec3& x0, const Vec3& v0, double h, const Vec3& goal, Vec3& outZ) const;
 
 private:
     Status checkVertex(uint32_t v, const char* what) const;

@@ -10,8 +10,8 @@ namespace cc::cloth {
 
 /// What one step did; filled by every integrator.
 struct StepStats {
-    int substeps = 0;             ///< [-] explicit substeps taken (1 for implicit)
-    int iterations = 0;           ///< [-] PCG iterations (0 for explicit and CHOLMOD)
+    int substeps = 0;             ///< [-] substeps taken (implicit: more than 1 when steps were split)
+    int iterations = 0;           ///< [-] PCG iterations over all substeps (0 for explicit and CHOLMOD)
     double relativeResidual = 0;  ///< [-] final |r| / |rhs| of the linear solve
     bool converged = true;        ///< false if PCG stopped at its iteration cap
     int strainLimitPasses = 0;    ///< [-] Provot sweeps run

@@ -20,10 +20,17 @@ struct LimitedEdge {
 /// are shortened back by moving their ends toward each other (in inverse-mass proportion;
 /// constrained vertices do not move), and velocities get the same correction divided by h.
 /// Edges are processed colour by colour (Gauss-Seidel, deterministic for any thread count).
+///
+/// Edge sweeps alone converge slowly far from the pins (a chain of L edges needs ~L^2 sweeps:
+/// 50 sweeps left 37% strain on a 10 x 10 sheet hung by two corners). So each sweep starts with
+/// long-range tethers (Kim, Chentanez & Mueller 2012): every free vertex stays within (1 + limit)
+/// of its pattern-space distance to the nearest Target vertex, which removes the global stretch
+/// in one pass and leaves the edges only local work.
 class StrainLimiter {
 public:
     StrainLimiter() = default;
-    StrainLimiter(uint32_t vertexCount, std::vector<LimitedEdge> edges);
+    /// `restPositions` (pattern coordinates, one per vertex) enable the tethers; may be empty.
+    StrainLimiter(uint32_t vertexCount, std::vector<LimitedEdge> edges, std::vector<Vec2> restPositions = {});
 
     /// Runs up to `maxPasses` sweeps until no edge exceeds the limit by more than 1e-3 of it.
     /// Returns the number of sweeps run.
@@ -34,7 +41,13 @@ public:
     const std::vector<LimitedEdge>& edges() const { return mEdges; }
 
 private:
+    // Pulls free vertices back inside their tether to the nearest Target vertex.
+    bool applyTethers(double limit, double h, const ConstraintSet& constraints, ClothState& state,
+                      const ParallelSettings& parallel) const;
+
     std::vector<LimitedEdge> mEdges;
+    std::vector<Vec2> mRest;
+    mutable std::vector<uint32_t> mTargets;  // scratch: the Target vertices of the current call
     StencilSet<2> mStencils;
 };
 
