@@ -8,10 +8,9 @@
 using namespace cc;
 using namespace cc::cloth;
 
-namespace {
-const IntegratorKind kAllIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitPcg,
-                                          IntegratorKind::ImplicitCholmod};
+using test::kAllIntegrators;
 
+namespace {
 SimulationSettings settingsFor(IntegratorKind kind) {
     SimulationSettings s;
     s.forceModel = ForceModelKind::MassSpring;

@@ -5,14 +5,14 @@
 
 #include "crowdcloth/cloth/ClothSimulation.h"
 #include "crowdcloth/cloth/MassSpringModel.h"
+#include "support/SheetScenes.h"
 
 using namespace cc;
 using namespace cc::cloth;
 
-namespace {
+using test::kAllIntegrators;
 
-const IntegratorKind kAllIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitPcg,
-                                          IntegratorKind::ImplicitCholmod};
+namespace {
 
 SimulationSettings settingsFor(IntegratorKind kind) {
     SimulationSettings s;

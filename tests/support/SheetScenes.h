@@ -7,6 +7,11 @@
 
 namespace cc::test {
 
+/// Every integrator, for tests that must hold for all of them.
+constexpr cloth::IntegratorKind kAllIntegrators[] = {cloth::IntegratorKind::SymplecticEuler,
+                                                     cloth::IntegratorKind::ImplicitPcg,
+                                                     cloth::IntegratorKind::ImplicitCholmod};
+
 /// A square sheet of side 1 m with `squares` grid squares per side, lying horizontal at height 1 m
 /// (pattern v along +Z), ready to be pinned.
 inline RectanglePanel horizontalSheet(uint32_t squares) {
