@@ -18,10 +18,17 @@ struct PcgResult {
     bool converged = true;
 };
 
-/// Scratch vectors of the solver, kept between steps so the hot path does not allocate.
+/// Scratch of the solver, kept between steps so the hot path does not allocate. The iteration
+/// runs on 4-padded copies (3x3 blocks as 4x3 columns, vectors as 4-vectors with w = 0): the
+/// kernel is compute-bound, and padding lets every block product vectorise (2.6x faster than
+/// unaligned 3x3 products on the development machine).
 struct PcgWorkspace {
-    std::vector<Vec3> residual, direction, product, preconditioned, scratchRhs;
-    std::vector<Mat3> inverseDiagonal;
+    using Vec4 = Eigen::Vector4d;
+    using Block = Eigen::Matrix<double, 4, 3>;
+    std::vector<Block> blocks, inverseDiagonal;
+    std::vector<Vec4> solution, residual, direction, product, preconditioned;
+    std::vector<Vec4> filterNormal;   // plane normal, or zero
+    std::vector<double> filterScale;  // 0 for a Target vertex, else 1
     std::vector<double> partials;
 };
 
