@@ -34,7 +34,6 @@ Status ImplicitEulerIntegrator::substep(double h, double fraction1, const Constr
     ClothState& saved = mSaved[depth];
     saved.positions = state.positions;
     saved.velocities = state.velocities;
-    saved.masses.clear();
     const double elasticBefore = mModel.energy(state.positions);
     const StepStats statsBefore = stats;
     if (Status s = solveOnce(h, fraction1, constraints, state, stats); !s) return s;

@@ -64,8 +64,6 @@ public:
     uint32_t vertexCount() const { return static_cast<uint32_t>(mKind.size()); }
     ConstraintKind kind(uint32_t v) const { return mKind[v]; }
     const Vec3& target(uint32_t v) const { return mPoint[v]; }
-    const Vec3& planePoint(uint32_t v) const { return mPoint[v]; }
-    const Vec3& planeNormal(uint32_t v) const { return mNormal[v]; }
 
     /// The filter for a step of length h from (x0, v0), and z (the fixed part of dv). A Target
     /// vertex must reach `goal` (its target, or a point on the way there when a step is split).

@@ -44,9 +44,6 @@ public:
     void appendCouplings(std::vector<std::pair<uint32_t, uint32_t>>& out) const override;
     void bindMatrix(const BlockSparseMatrix& matrix) override;
 
-    /// Springs in evaluation (colour) order.
-    const std::vector<Spring>& springs() const { return mSprings; }
-
 private:
     MassSpringModel() = default;
     uint32_t mVertexCount = 0;

@@ -38,7 +38,6 @@ public:
               const ParallelSettings& parallel) const;
     /// Largest (length / rest length - 1) over the edges.
     double maxStrain(const std::vector<Vec3>& positions) const;
-    const std::vector<LimitedEdge>& edges() const { return mEdges; }
 
 private:
     // Pulls free vertices back inside their tether to the nearest Target vertex.
