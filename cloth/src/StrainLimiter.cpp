@@ -17,26 +17,38 @@ double StrainLimiter::maxStrain(const std::vector<Vec3>& x) const {
     return worst;
 }
 
-bool StrainLimiter::applyTethers(double limit, double h, const ConstraintSet& constraints, ClothState& state,
-                                 const ParallelSettings& parallel) const {
+bool StrainLimiter::bindTethers(const ConstraintSet& constraints) const {
     if (mRest.empty()) return false;
     mTargets.clear();
     for (uint32_t i = 0; i < constraints.vertexCount(); ++i) {
         if (constraints.kind(i) == ConstraintKind::Target) mTargets.push_back(i);
     }
     if (mTargets.empty()) return false;
+    const std::size_t n = mRest.size();
+    mAnchor.resize(n);
+    mTetherLength.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        uint32_t anchor = mTargets[0];
+        double best = (mRest[i] - mRest[anchor]).squaredNorm();
+        for (uint32_t t : mTargets) {
+            const double d2 = (mRest[i] - mRest[t]).squaredNorm();
+            if (d2 < best) best = d2, anchor = t;
+        }
+        mAnchor[i] = anchor;
+        mTetherLength[i] = std::sqrt(best);
+    }
+    return true;
+}
+
+bool StrainLimiter::applyTethers(double limit, double h, const ConstraintSet& constraints, ClothState& state,
+                                 const ParallelSettings& parallel) const {
     std::atomic<bool> corrected{false};
     auto& x = state.positions;
     parallelFor(state.vertexCount(), parallel, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             if (constraints.kind(uint32_t(i)) == ConstraintKind::Target) continue;
-            uint32_t anchor = mTargets[0];
-            double best = (mRest[i] - mRest[anchor]).squaredNorm();
-            for (uint32_t t : mTargets) {
-                const double d2 = (mRest[i] - mRest[t]).squaredNorm();
-                if (d2 < best) best = d2, anchor = t;
-            }
-            const double maxLength = (1.0 + limit) * std::sqrt(best);
+            const uint32_t anchor = mAnchor[i];
+            const double maxLength = (1.0 + limit) * mTetherLength[i];
             const Vec3 d = x[i] - x[anchor];
             const double length = d.norm();
             if (length <= maxLength * (1.0 + 1e-3 * limit)) continue;
@@ -57,10 +69,11 @@ int StrainLimiter::apply(double limit, int maxPasses, double h, const Constraint
         return constraints.kind(i) == ConstraintKind::Target ? 0.0 : 1.0 / state.masses[i];
     };
     const double tolerance = 1e-3 * limit;
+    const bool tethered = bindTethers(constraints);
     int pass = 0;
     for (; pass < maxPasses; ++pass) {
         // Each colour's edges share no vertex, so they correct in parallel; the flag is only ever set.
-        std::atomic<bool> corrected{applyTethers(limit, h, constraints, state, parallel)};
+        std::atomic<bool> corrected{tethered && applyTethers(limit, h, constraints, state, parallel)};
         for (std::size_t c = 0; c < mStencils.colourCount(); ++c) {
             const int64_t first = mStencils.colourStart[c];
             parallelFor(int64_t(mStencils.colourStart[c + 1]) - first, parallel, [&](int64_t b, int64_t e) {

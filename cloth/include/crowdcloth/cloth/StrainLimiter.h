@@ -40,13 +40,18 @@ public:
     double maxStrain(const std::vector<Vec3>& positions) const;
 
 private:
-    // Pulls free vertices back inside their tether to the nearest Target vertex.
+    // Finds each free vertex's nearest Target vertex in pattern space (once per apply(): it depends
+    // only on the rest shape and the pins). Returns false when there are no tethers.
+    bool bindTethers(const ConstraintSet& constraints) const;
+    // Pulls free vertices back inside their tether.
     bool applyTethers(double limit, double h, const ConstraintSet& constraints, ClothState& state,
                       const ParallelSettings& parallel) const;
 
     std::vector<LimitedEdge> mEdges;
     std::vector<Vec2> mRest;
-    mutable std::vector<uint32_t> mTargets;  // scratch: the Target vertices of the current call
+    mutable std::vector<uint32_t> mTargets;     // scratch: the Target vertices of the current call
+    mutable std::vector<uint32_t> mAnchor;      // scratch: nearest Target vertex per vertex
+    mutable std::vector<double> mTetherLength;  // scratch: [m] its rest distance
     StencilSet<2> mStencils;
 };
 
