@@ -1,0 +1,51 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <tuple>
+
+#include "crowdcloth/core/Status.h"
+#include "crowdcloth/lod/CrowdScheduler.h"
+
+namespace cc::lod {
+
+/// Seeds of the cost formula, measured on a 2-core EPYC (samples/bench).
+struct CostCoefficients {
+    double perUpdateMs = 0.01;  ///< [ms] fixed overhead of updating one garment; >= 0
+    double perVertexMs[kSolverChoiceCount] = {
+        2.0e-5,  ///< explicit, per vertex and substep (measured: ~20 ns)
+        4.0e-3,  ///< implicit PCG, per vertex (measured at 17^2; grows with CG iterations: 1.3e-2 at 65^2)
+        1.2e-2}; ///< implicit CHOLMOD, per vertex (measured: ~3-4x PCG)
+    double learningRate = 0.1;  ///< [-] weight of a new measurement in the average; (0, 1]
+};
+
+/// Predicted cost of one garment update, fixed or learned from measurements.
+///
+/// Fixed: `perUpdateMs + vertices * perVertexMs[solver] * substeps`, deterministic, for tests and
+/// reproducible runs. Learned (the default for real use): the same formula seeds each (asset,
+/// level, solver) entry, then an exponential moving average of the measured times replaces it, so
+/// the scheduler follows this machine and this scene.
+class CostModel {
+public:
+    enum class Mode { Fixed, Learned };
+
+    explicit CostModel(Mode mode = Mode::Learned, const CostCoefficients& coefficients = {});
+
+    Status validate() const;
+    Mode mode() const { return mMode; }
+
+    /// [ms] one update of `vertexCount` vertices at `substeps` with `solver`.
+    double predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount,
+                     int substeps) const;
+    /// Feeds a measured update time [ms] (ignored in Fixed mode, and when not finite or <= 0).
+    void record(uint32_t asset, int level, SolverChoice solver, double measuredMs);
+
+private:
+    double formulaMs(SolverChoice solver, std::size_t vertexCount, int substeps) const;
+
+    Mode mMode;
+    CostCoefficients mCoefficients;
+    std::map<std::tuple<uint32_t, int, int>, double> mLearnedMs;
+};
+
+} // namespace cc::lod

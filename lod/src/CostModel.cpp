@@ -1,0 +1,42 @@
+#include "crowdcloth/lod/CostModel.h"
+
+#include <cmath>
+
+namespace cc::lod {
+
+CostModel::CostModel(Mode mode, const CostCoefficients& coefficients)
+    : mMode(mode), mCoefficients(coefficients) {}
+
+Status CostModel::validate() const {
+    if (!std::isfinite(mCoefficients.perUpdateMs) || mCoefficients.perUpdateMs < 0.0)
+        return Status::invalidArgument("CostModel.perUpdateMs must be finite and >= 0");
+    for (int k = 0; k < kSolverChoiceCount; ++k)
+        if (!std::isfinite(mCoefficients.perVertexMs[k]) || mCoefficients.perVertexMs[k] <= 0.0)
+            return Status::invalidArgument("CostModel.perVertexMs[" + std::to_string(k) + "] must be > 0");
+    if (!(mCoefficients.learningRate > 0.0 && mCoefficients.learningRate <= 1.0))
+        return Status::invalidArgument("CostModel.learningRate must be in (0, 1]");
+    return Status::ok();
+}
+
+double CostModel::formulaMs(SolverChoice solver, std::size_t vertexCount, int substeps) const {
+    const int k = static_cast<int>(solver);
+    const int passes = solver == SolverChoice::ExplicitEuler ? substeps : 1;
+    return mCoefficients.perUpdateMs + double(vertexCount) * mCoefficients.perVertexMs[k] * passes;
+}
+
+double CostModel::predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount,
+                            int substeps) const {
+    if (mMode == Mode::Learned) {
+        auto it = mLearnedMs.find({asset, level, static_cast<int>(solver)});
+        if (it != mLearnedMs.end()) return it->second;
+    }
+    return formulaMs(solver, vertexCount, substeps);
+}
+
+void CostModel::record(uint32_t asset, int level, SolverChoice solver, double measuredMs) {
+    if (mMode != Mode::Learned || !std::isfinite(measuredMs) || measuredMs <= 0.0) return;
+    auto [it, inserted] = mLearnedMs.try_emplace({asset, level, static_cast<int>(solver)}, measuredMs);
+    if (!inserted) it->second += mCoefficients.learningRate * (measuredMs - it->second);
+}
+
+} // namespace cc::lod
