@@ -1,0 +1,36 @@
+#include <gtest/gtest.h>
+
+#include "crowdcloth/lod/CostModel.h"
+
+namespace cc::lod {
+namespace {
+
+TEST(CostModel, FixedModelIsTheFormulaAndIgnoresMeasurements) {
+    CostCoefficients c;
+    CostModel model(CostModel::Mode::Fixed, c);
+    const double pcg = model.predictMs(0, 2, SolverChoice::ImplicitPcg, 1000, 1);
+    EXPECT_DOUBLE_EQ(pcg, c.perUpdateMs + 1000 * c.perVertexMs[1]);
+    EXPECT_DOUBLE_EQ(model.predictMs(0, 2, SolverChoice::ExplicitEuler, 1000, 50),
+                     c.perUpdateMs + 1000 * c.perVertexMs[0] * 50);
+    model.record(0, 2, SolverChoice::ImplicitPcg, 123.0);
+    EXPECT_DOUBLE_EQ(model.predictMs(0, 2, SolverChoice::ImplicitPcg, 1000, 1), pcg);
+}
+
+TEST(CostModel, LearnedModelConvergesToMeasuredTimes) {
+    CostModel model(CostModel::Mode::Learned);
+    for (int i = 0; i < 200; ++i) model.record(3, 1, SolverChoice::ImplicitPcg, 2.5);
+    EXPECT_NEAR(model.predictMs(3, 1, SolverChoice::ImplicitPcg, 10, 1), 2.5, 1e-9);
+    model.record(3, 1, SolverChoice::ImplicitPcg, std::nan(""));
+    model.record(3, 1, SolverChoice::ImplicitPcg, -1.0);
+    EXPECT_NEAR(model.predictMs(3, 1, SolverChoice::ImplicitPcg, 10, 1), 2.5, 1e-9) << "bad samples ignored";
+    EXPECT_NE(model.predictMs(3, 2, SolverChoice::ImplicitPcg, 10, 1), 2.5) << "other levels keep their seed";
+}
+
+TEST(CostModel, ValidateNamesTheField) {
+    CostCoefficients c;
+    c.learningRate = 0.0;
+    EXPECT_NE(CostModel(CostModel::Mode::Learned, c).validate().message().find("learningRate"), std::string::npos);
+}
+
+} // namespace
+} // namespace cc::lod

@@ -1,0 +1,265 @@
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "crowdcloth/lod/CrowdScheduler.h"
+#include "support/Cameras.h"
+
+namespace cc::lod {
+namespace {
+
+constexpr double kFov = 1.0;        // [rad]
+constexpr double kHeight = 1080.0;  // [px]
+
+SchedulerCamera cameraAtOrigin() {
+    SchedulerCamera camera;
+    camera.viewProjection = test::perspective(kFov, 16.0 / 9.0, 0.1, 1000.0) *
+                            test::lookAt(Vec3::Zero(), Vec3(0, 0, -1));
+    camera.viewportWidth = 1920.0;
+    camera.viewportHeight = kHeight;
+    return camera;
+}
+
+/// Five levels; each coarser one is 4x cheaper and twice as wrong (second-order geometry would
+/// be 4x, the hanging-sheet sag converges at about that).
+GarmentProfile fiveLevels() {
+    GarmentProfile profile;
+    for (int l = 0; l < 5; ++l) {
+        LevelProfile level;
+        level.errorMetres = l == 4 ? 0.0 : 0.04 / std::pow(2.0, l);
+        level.costMs[int(SolverChoice::ImplicitPcg)] = 0.01 * std::pow(4.0, l);
+        level.costMs[int(SolverChoice::ImplicitCholmod)] = 0.03 * std::pow(4.0, l);
+        profile.levels.push_back(level);
+    }
+    return profile;
+}
+
+GarmentRequest garmentAt(uint64_t id, double distance, double speed = 1.0) {
+    GarmentRequest r;
+    r.id = id;
+    r.center = Vec3(0.0, 0.0, -distance);
+    r.radius = 0.5;
+    r.speed = speed;
+    return r;
+}
+
+std::vector<GarmentSchedule> schedule(const SchedulerSettings& settings, const std::vector<GarmentRequest>& requests,
+                                      const GarmentProfile& profile = fiveLevels()) {
+    const SchedulerCamera camera = cameraAtOrigin();
+    std::vector<GarmentSchedule> out(requests.size());
+    const Status status = scheduleGarments(settings, Span<const SchedulerCamera>(&camera, 1),
+                                           Span<const GarmentProfile>(&profile, 1), requests, out);
+    EXPECT_TRUE(status.isOk()) << status.message();
+    return out;
+}
+
+SchedulerSettings unlimited() {
+    SchedulerSettings s;
+    s.budgetMs = 1e9;
+    s.refineWithSlack = false;
+    return s;
+}
+
+TEST(ProjectSphere, PixelsPerMetreMatchesPinhole) {
+    const SchedulerCamera camera = cameraAtOrigin();
+    for (double d : {2.0, 10.0, 100.0}) {
+        const ScreenProjection p = projectSphere(camera, Vec3(0, 0, -d), 1e-6);
+        EXPECT_TRUE(p.visible);
+        EXPECT_NEAR(p.pixelsPerMetre, 0.5 * kHeight / (d * std::tan(0.5 * kFov)), 1e-6 * p.pixelsPerMetre);
+    }
+    EXPECT_FALSE(projectSphere(camera, Vec3(0, 0, 10), 1.0).visible) << "behind the camera";
+    EXPECT_FALSE(projectSphere(camera, Vec3(100, 0, -10), 1.0).visible) << "far to the right";
+    EXPECT_TRUE(projectSphere(camera, Vec3(0, 0, 0.5), 1.0).visible) << "sphere around the camera";
+}
+
+TEST(CrowdScheduler, LevelFallsAndIntervalGrowsWithDistance) {
+    std::vector<GarmentRequest> requests;
+    for (int i = 0; i < 60; ++i) requests.push_back(garmentAt(i, 1.0 + 4.0 * i));
+    const auto out = schedule(unlimited(), requests);
+    for (std::size_t i = 1; i < out.size(); ++i) {
+        EXPECT_LE(out[i].level, out[i - 1].level) << "garment " << i;
+        EXPECT_GE(out[i].updateInterval, out[i - 1].updateInterval) << "garment " << i;
+        EXPECT_LE(out[i].predictedErrorPx, 1.0);
+    }
+    EXPECT_EQ(out.front().level, 4);
+    EXPECT_EQ(out.front().updateInterval, 1);
+    EXPECT_EQ(out.back().level, 0);
+    EXPECT_GT(out.back().updateInterval, 1);
+}
+
+TEST(CrowdScheduler, PicksTheCheapestOfferedSolver) {
+    GarmentProfile profile = fiveLevels();
+    profile.levels[0].costMs[int(SolverChoice::ExplicitEuler)] = 0.001;
+    profile.levels[0].explicitSubsteps = 40;
+    const auto out = schedule(unlimited(), {garmentAt(1, 900.0)}, profile);
+    EXPECT_EQ(out[0].level, 0);
+    EXPECT_EQ(out[0].solver, SolverChoice::ExplicitEuler);
+    EXPECT_EQ(out[0].substeps, 40);
+    const auto near = schedule(unlimited(), {garmentAt(1, 1.0)}, profile);
+    EXPECT_EQ(near[0].solver, SolverChoice::ImplicitPcg);
+    EXPECT_EQ(near[0].substeps, 1);
+}
+
+TEST(CrowdScheduler, StaysWithinBudgetWithTheFixedCostModel) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> distance(1.0, 60.0);
+    std::vector<GarmentRequest> requests;
+    for (int i = 0; i < 300; ++i) requests.push_back(garmentAt(i, distance(rng), 1.4));
+    const auto free = schedule(unlimited(), requests);
+    double freeCost = 0.0, freeError = 0.0;
+    for (const auto& s : free) freeCost += s.predictedCostMs, freeError += s.predictedErrorPx;
+
+    for (double budget : {0.5 * freeCost, 0.1 * freeCost, 0.02 * freeCost}) {
+        SchedulerSettings settings = unlimited();
+        settings.budgetMs = budget;
+        const auto out = schedule(settings, requests);
+        double cost = 0.0, error = 0.0;
+        for (const auto& s : out) cost += s.predictedCostMs, error += s.predictedErrorPx;
+        EXPECT_LE(cost, budget * (1 + 1e-12)) << "budget " << budget;
+        EXPECT_GT(error, freeError) << "a tighter budget must cost accuracy";
+    }
+}
+
+TEST(CrowdScheduler, DegradesTheLeastImportantAndFarthestFirst) {
+    std::vector<GarmentRequest> requests = {garmentAt(1, 3.0), garmentAt(2, 3.0), garmentAt(3, 30.0)};
+    requests[1].importance = 10.0;
+    const auto free = schedule(unlimited(), requests);
+    SchedulerSettings settings = unlimited();
+    settings.budgetMs = 0.7 * (free[0].predictedCostMs + free[1].predictedCostMs + free[2].predictedCostMs);
+    const auto out = schedule(settings, requests);
+    EXPECT_EQ(out[1].level, free[1].level) << "the important garment keeps its level";
+    EXPECT_LT(out[0].level * 1.0 / out[0].updateInterval, free[0].level * 1.0 / free[0].updateInterval);
+}
+
+TEST(CrowdScheduler, SpendsSlackOnTheLargestGains) {
+    std::vector<GarmentRequest> requests;
+    for (int i = 0; i < 20; ++i) requests.push_back(garmentAt(i, 5.0 + 5.0 * i));
+    SchedulerSettings settings;
+    settings.refineWithSlack = false;
+    settings.budgetMs = 1000.0;
+    const auto base = schedule(settings, requests);
+    settings.refineWithSlack = true;
+    const auto out = schedule(settings, requests);
+    double cost = 0.0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        EXPECT_GE(out[i].level, base[i].level);
+        EXPECT_LE(out[i].predictedErrorPx, base[i].predictedErrorPx);
+        cost += out[i].predictedCostMs;
+    }
+    EXPECT_LE(cost, settings.budgetMs * (1.0 - settings.hysteresis));
+    EXPECT_EQ(out.back().level, 4) << "plenty of budget: even the farthest garment is finest";
+}
+
+/// Distance at which a garment approaching the camera first refines past `level`, or a receding
+/// one first coarsens to `level`.
+double switchDistance(const SchedulerSettings& settings, bool approaching, int level) {
+    GarmentSchedule previous;
+    double lastD = 0.0;
+    for (int i = 0; i <= 4000; ++i) {
+        const double d = approaching ? 200.0 - 0.05 * i : 0.5 + 0.05 * i;
+        GarmentRequest r = garmentAt(1, d);
+        r.speed = 0.0;
+        r.previous = previous;
+        previous = schedule(settings, {r})[0];
+        if (approaching ? previous.level > level : previous.level <= level) return d;
+        lastD = d;
+    }
+    return lastD;
+}
+
+TEST(CrowdScheduler, HysteresisSeparatesRefineAndCoarsenDistances) {
+    const SchedulerSettings settings = unlimited();
+    const double refineAt = switchDistance(settings, true, 1);
+    const double coarsenAt = switchDistance(settings, false, 1);
+    // Refining happens where level 1's error reaches the tolerance, coarsening back only where it
+    // is (1 - hysteresis) of it: 1 / 0.75 = 1.33x farther (less the sphere radius).
+    EXPECT_GT(coarsenAt, refineAt * (1.0 + 0.5 * settings.hysteresis))
+        << "coarsening must wait until the coarse level is clearly within tolerance";
+
+    // A still camera at the threshold: the decision never changes, whichever side it came from.
+    for (double d : {refineAt, coarsenAt, 0.5 * (refineAt + coarsenAt)}) {
+        GarmentRequest r = garmentAt(1, d, 0.0);
+        r.previous = schedule(settings, {r})[0];
+        const int first = r.previous.level;
+        for (int frame = 0; frame < 50; ++frame) {
+            r.previous = schedule(settings, {r})[0];
+            ASSERT_EQ(r.previous.level, first) << "flicker at " << d << " m, frame " << frame;
+        }
+    }
+}
+
+TEST(CrowdScheduler, ResultDoesNotDependOnInputOrder) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> distance(1.0, 80.0);
+    std::vector<GarmentRequest> requests;
+    for (int i = 0; i < 100; ++i) requests.push_back(garmentAt(1000 - i, distance(rng)));
+    requests[10].center = requests[11].center; // an exact tie: decided by id
+    SchedulerSettings settings;
+    settings.budgetMs = 3.0;
+    const auto out = schedule(settings, requests);
+    std::vector<GarmentRequest> shuffled = requests;
+    std::shuffle(shuffled.begin(), shuffled.end(), rng);
+    const auto outShuffled = schedule(settings, shuffled);
+    for (std::size_t i = 0; i < shuffled.size(); ++i) {
+        const auto j = std::find_if(requests.begin(), requests.end(),
+                                    [&](const GarmentRequest& r) { return r.id == shuffled[i].id; }) - requests.begin();
+        EXPECT_EQ(outShuffled[i].level, out[j].level);
+        EXPECT_EQ(outShuffled[i].updateInterval, out[j].updateInterval);
+        EXPECT_EQ(outShuffled[i].predictedCostMs, out[j].predictedCostMs);
+    }
+}
+
+TEST(CrowdScheduler, UnseenGarmentsSleepAtRestAndIdleOtherwise) {
+    GarmentRequest behind = garmentAt(1, -5.0, 0.0);
+    behind.atRest = true;
+    GarmentRequest moving = garmentAt(2, -5.0, 1.0);
+    const auto out = schedule(unlimited(), {behind, moving});
+    EXPECT_FALSE(out[0].visible);
+    EXPECT_EQ(out[0].updateInterval, 0);
+    EXPECT_EQ(out[0].collision, CollisionDetail::None);
+    EXPECT_EQ(out[0].predictedCostMs, 0.0);
+    EXPECT_EQ(out[1].level, 0);
+    EXPECT_EQ(out[1].updateInterval, SchedulerSettings{}.maxUpdateInterval);
+    EXPECT_EQ(out[1].collision, CollisionDetail::Proxies);
+}
+
+TEST(CrowdScheduler, CollisionDetailFollowsScreenSizeAndSpeed) {
+    const auto out = schedule(unlimited(), {garmentAt(1, 1.5, 3.0), garmentAt(2, 1.5, 0.5), garmentAt(3, 80.0, 3.0)});
+    EXPECT_EQ(out[0].collision, CollisionDetail::MeshContinuous);
+    EXPECT_TRUE(out[0].selfCollision);
+    EXPECT_EQ(out[1].collision, CollisionDetail::Mesh);
+    EXPECT_EQ(out[2].collision, CollisionDetail::Proxies);
+    EXPECT_FALSE(out[2].selfCollision);
+}
+
+TEST(CrowdScheduler, RejectsBadInputNamingIt) {
+    const SchedulerCamera camera = cameraAtOrigin();
+    const GarmentProfile profile = fiveLevels();
+    auto run = [&](std::vector<GarmentRequest> requests, SchedulerSettings settings = {},
+                   GarmentProfile p = fiveLevels()) {
+        std::vector<GarmentSchedule> out(requests.size());
+        return scheduleGarments(settings, Span<const SchedulerCamera>(&camera, 1),
+                                Span<const GarmentProfile>(&p, 1), requests, out);
+    };
+    Status s = run({garmentAt(5, 1.0), garmentAt(5, 2.0)});
+    EXPECT_NE(s.message().find("garment id 5 appears twice"), std::string::npos) << s.message();
+    GarmentRequest nan = garmentAt(6, 1.0);
+    nan.center.x() = std::nan("");
+    s = run({nan});
+    EXPECT_NE(s.message().find("garment 6: center"), std::string::npos) << s.message();
+    GarmentRequest badProfile = garmentAt(7, 1.0);
+    badProfile.profile = 3;
+    EXPECT_NE(run({badProfile}).message().find("profile 3 out of range"), std::string::npos);
+    SchedulerSettings settings;
+    settings.maxUpdateInterval = 3;
+    EXPECT_NE(run({garmentAt(1, 1.0)}, settings).message().find("maxUpdateInterval"), std::string::npos);
+    GarmentProfile noSolver = fiveLevels();
+    noSolver.levels[2].costMs[1] = noSolver.levels[2].costMs[2] = 0.0;
+    EXPECT_NE(run({garmentAt(1, 1.0)}, {}, noSolver).message().find("profile 0 level 2 offers no solver"),
+              std::string::npos);
+}
+
+} // namespace
+} // namespace cc::lod
