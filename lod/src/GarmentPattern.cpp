@@ -1,0 +1,197 @@
+#include "crowdcloth/lod/GarmentPattern.h"
+
+#include <cmath>
+#include <string>
+
+namespace cc::lod {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr uint32_t kMaxBaseSquares = 4096;  // per panel side; the hierarchy refines from there
+
+std::string panelName(std::size_t p) { return "GarmentPattern.panels[" + std::to_string(p) + "]"; }
+
+/// +1 when counter-clockwise triangles walk the side in its own numbering order, -1 otherwise.
+int walkDirection(PanelSide side) {
+    return (side == PanelSide::Bottom || side == PanelSide::Right) ? 1 : -1;
+}
+
+Status checkSize(double value, const char* name, const char* what) {
+    if (!std::isfinite(value) || !(value > 0.0)) {
+        return Status::invalidArgument(std::string("GarmentPattern::") + name + ": " + what +
+                                       " must be finite and > 0, got " + std::to_string(value));
+    }
+    return Status::ok();
+}
+
+uint32_t squaresFor(double length, double cellSize, uint32_t minimum) {
+    const double n = std::round(length / cellSize);
+    return static_cast<uint32_t>(std::max<double>(minimum, std::min<double>(n, kMaxBaseSquares)));
+}
+
+} // namespace
+
+Vec3 PanelDesc::place(const Vec2& uv) const {
+    if (shape == PanelShape::Tube) {
+        const double radius = width / (2.0 * kPi);
+        const double angle = 2.0 * kPi * uv.x() / width;
+        const Vec3 side = uAxis.cross(vAxis);
+        return origin + radius * (std::cos(angle) * uAxis + std::sin(angle) * side) + uv.y() * vAxis;
+    }
+    return origin + uv.x() * uAxis + uv.y() * vAxis;
+}
+
+Status GarmentPattern::validate() const {
+    if (panels.empty()) return Status::invalidArgument("GarmentPattern.panels is empty");
+    if (panels.size() > 4096) return Status::invalidArgument("GarmentPattern.panels has more than 4096 panels");
+    for (std::size_t p = 0; p < panels.size(); ++p) {
+        const PanelDesc& d = panels[p];
+        const std::string name = panelName(p);
+        if (!std::isfinite(d.width) || !(d.width > 0.0)) {
+            return Status::invalidArgument(name + ".width must be finite and > 0, got " + std::to_string(d.width));
+        }
+        if (!std::isfinite(d.height) || !(d.height > 0.0)) {
+            return Status::invalidArgument(name + ".height must be finite and > 0, got " + std::to_string(d.height));
+        }
+        if (d.columns < 1 || d.rows < 1) return Status::invalidArgument(name + ".columns and .rows must be >= 1");
+        if (d.shape == PanelShape::Tube && d.columns < 3) {
+            return Status::invalidArgument(name + ".columns must be >= 3 for a tube (got " +
+                                           std::to_string(d.columns) + ")");
+        }
+        if (d.columns > kMaxBaseSquares || d.rows > kMaxBaseSquares) {
+            return Status::invalidArgument(name + ".columns and .rows must be <= 4096");
+        }
+        // Thin base squares make long thin triangles at every level; a 1:8 aspect is already poor.
+        const double aspect = (d.width / d.columns) / (d.height / d.rows);
+        if (!(aspect >= 0.125 && aspect <= 8.0)) {
+            return Status::invalidArgument(name + ": base squares are " + std::to_string(d.width / d.columns) +
+                                           " x " + std::to_string(d.height / d.rows) +
+                                           " m; keep their aspect within 1:8 (adjust columns/rows)");
+        }
+        if (!isFinite(d.origin)) return Status::invalidArgument(name + ".origin is not finite");
+        if (!isFinite(d.uAxis) || std::abs(d.uAxis.norm() - 1.0) > 1e-9) {
+            return Status::invalidArgument(name + ".uAxis must be a unit vector");
+        }
+        if (!isFinite(d.vAxis) || std::abs(d.vAxis.norm() - 1.0) > 1e-9 || std::abs(d.uAxis.dot(d.vAxis)) > 1e-9) {
+            return Status::invalidArgument(name + ".vAxis must be a unit vector orthogonal to uAxis");
+        }
+    }
+    std::vector<uint8_t> used(panels.size() * 4, 0);
+    for (std::size_t s = 0; s < seams.size(); ++s) {
+        const Seam& seam = seams[s];
+        const std::string name = "GarmentPattern.seams[" + std::to_string(s) + "]";
+        if (seam.panelA >= panels.size() || seam.panelB >= panels.size()) {
+            return Status::invalidArgument(name + " names a panel out of range (" + std::to_string(panels.size()) +
+                                           " panels)");
+        }
+        uint32_t segments[2];
+        for (int k = 0; k < 2; ++k) {
+            const uint32_t p = k == 0 ? seam.panelA : seam.panelB;
+            const PanelSide side = k == 0 ? seam.sideA : seam.sideB;
+            const PanelDesc& d = panels[p];
+            const bool alongU = side == PanelSide::Bottom || side == PanelSide::Top;
+            if (d.shape == PanelShape::Tube && !alongU) {
+                return Status::invalidArgument(name + ": the left/right sides of tube panel " + std::to_string(p) +
+                                               " are already sewn to each other");
+            }
+            uint8_t& flag = used[p * 4 + static_cast<uint32_t>(side)];
+            if (flag) {
+                return Status::invalidArgument(name + ": side " + std::to_string(static_cast<int>(side)) +
+                                               " of panel " + std::to_string(p) + " is already in a seam");
+            }
+            flag = 1;
+            segments[k] = alongU ? d.columns : d.rows;
+        }
+        if (segments[0] != segments[1]) {
+            return Status::invalidArgument(name + ": the sides have " + std::to_string(segments[0]) + " and " +
+                                           std::to_string(segments[1]) + " base segments; they must match");
+        }
+        const int product = walkDirection(seam.sideA) * walkDirection(seam.sideB) * (seam.reversed ? -1 : 1);
+        if (product != -1) {
+            return Status::invalidArgument(name + " would flip panel " + std::to_string(seam.panelB) +
+                                           " over (both triangles walk the seam the same way); toggle `reversed`");
+        }
+    }
+    return Status::ok();
+}
+
+Result<GarmentPattern> GarmentPattern::cape(double width, double height, double cellSize) {
+    for (Status s : {checkSize(width, "cape", "width"), checkSize(height, "cape", "height"),
+                     checkSize(cellSize, "cape", "cellSize")}) {
+        if (!s) return s;
+    }
+    PanelDesc panel;
+    panel.width = width;
+    panel.height = height;
+    panel.columns = squaresFor(width, cellSize, 1);
+    panel.rows = squaresFor(height, cellSize, 1);
+    panel.origin = Vec3(-0.5 * width, 0.0, 0.0);
+    GarmentPattern pattern;
+    pattern.panels.push_back(panel);
+    if (Status s = pattern.validate(); !s) return s;
+    return pattern;
+}
+
+Result<GarmentPattern> GarmentPattern::skirt(double circumference, double length, double cellSize) {
+    for (Status s : {checkSize(circumference, "skirt", "circumference"), checkSize(length, "skirt", "length"),
+                     checkSize(cellSize, "skirt", "cellSize")}) {
+        if (!s) return s;
+    }
+    PanelDesc panel;
+    panel.shape = PanelShape::Tube;
+    panel.width = circumference;
+    panel.height = length;
+    panel.columns = squaresFor(circumference, cellSize, 3);
+    panel.rows = squaresFor(length, cellSize, 1);
+    GarmentPattern pattern;
+    pattern.panels.push_back(panel);
+    if (Status s = pattern.validate(); !s) return s;
+    return pattern;
+}
+
+Result<GarmentPattern> GarmentPattern::dress(double width, double length, double cellSize) {
+    for (Status s : {checkSize(width, "dress", "width"), checkSize(length, "dress", "length"),
+                     checkSize(cellSize, "dress", "cellSize")}) {
+        if (!s) return s;
+    }
+    PanelDesc front;
+    front.width = width;
+    front.height = length;
+    front.columns = squaresFor(width, cellSize, 1);
+    front.rows = squaresFor(length, cellSize, 1);
+    const double depth = 0.1 * width;
+    front.origin = Vec3(-0.5 * width, 0.0, depth);
+    PanelDesc back = front;
+    back.origin = Vec3(0.5 * width, 0.0, -depth);
+    back.uAxis = -Vec3::UnitX();
+    GarmentPattern pattern;
+    pattern.panels = {front, back};
+    pattern.seams.push_back({0, PanelSide::Right, 1, PanelSide::Left, false});
+    pattern.seams.push_back({0, PanelSide::Left, 1, PanelSide::Right, false});
+    if (Status s = pattern.validate(); !s) return s;
+    return pattern;
+}
+
+Result<GarmentPattern> GarmentPattern::poncho(double width, double length, double depth, double cellSize) {
+    for (Status s : {checkSize(width, "poncho", "width"), checkSize(length, "poncho", "length"),
+                     checkSize(depth, "poncho", "depth"), checkSize(cellSize, "poncho", "cellSize")}) {
+        if (!s) return s;
+    }
+    PanelDesc front;
+    front.width = width;
+    front.height = length;
+    front.columns = squaresFor(width, cellSize, 1);
+    front.rows = squaresFor(length, cellSize, 1);
+    front.origin = Vec3(-0.5 * width, 0.0, 0.5 * depth);
+    PanelDesc back = front;
+    back.origin = Vec3(0.5 * width, 0.0, -0.5 * depth);
+    back.uAxis = -Vec3::UnitX();
+    GarmentPattern pattern;
+    pattern.panels = {front, back};
+    pattern.seams.push_back({0, PanelSide::Top, 1, PanelSide::Top, true});
+    if (Status s = pattern.validate(); !s) return s;
+    return pattern;
+}
+
+} // namespace cc::lod
