@@ -6,6 +6,21 @@
 
 namespace cc::detail {
 
+void parallelForEachImpl(int64_t count, int maxThreads, void* context, void (*body)(void*, int64_t)) {
+    if (count <= 0) return;
+#ifdef CC_HAVE_OPENMP
+    const int threads = maxThreads > 0 ? maxThreads : omp_get_max_threads();
+    if (threads > 1 && count > 1 && !omp_in_parallel()) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+        for (int64_t i = 0; i < count; ++i) body(context, i);
+        return;
+    }
+#else
+    (void)maxThreads;
+#endif
+    for (int64_t i = 0; i < count; ++i) body(context, i);
+}
+
 void parallelForImpl(int64_t count, const ParallelSettings& settings, void* context,
                      void (*body)(void*, int64_t, int64_t)) {
     if (count <= 0) return;

@@ -13,6 +13,7 @@ struct ParallelSettings {
 };
 
 namespace detail {
+void parallelForEachImpl(int64_t count, int maxThreads, void* context, void (*body)(void*, int64_t index));
 void parallelForImpl(int64_t count, const ParallelSettings& settings, void* context,
                      void (*body)(void*, int64_t begin, int64_t end));
 }
@@ -23,6 +24,16 @@ template <typename Body>
 void parallelFor(int64_t count, const ParallelSettings& settings, Body&& body) {
     detail::parallelForImpl(count, settings, &body, [](void* ctx, int64_t begin, int64_t end) {
         (*static_cast<Body*>(ctx))(begin, end);
+    });
+}
+
+/// Runs body(i) for every i in [0, count), handing out indices dynamically (for independent items
+/// of uneven cost, such as garments). maxThreads 0 = OpenMP's default, 1 = serial. The body must
+/// write only to data owned by item i, so the order of execution never changes the result.
+template <typename Body>
+void parallelForEach(int64_t count, int maxThreads, Body&& body) {
+    detail::parallelForEachImpl(count, maxThreads, &body, [](void* ctx, int64_t index) {
+        (*static_cast<Body*>(ctx))(index);
     });
 }
 

@@ -1,0 +1,191 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "crowdcloth/Ids.h"
+#include "crowdcloth/core/Status.h"
+
+namespace cc {
+
+using AssetId = cc_asset_id;
+using BodyId = cc_body_id;
+using CharacterId = cc_character_id;
+using GarmentId = cc_garment_id;
+
+/// World-wide choices, fixed at creation.
+struct WorldDesc {
+    uint32_t maxThreads = 0;          ///< [-] threads that step garments; 0 = all OpenMP offers
+    double frameBudgetMs = 12.0;      ///< [ms] wall time per frame the cloth may use; > 0
+    double pixelTolerance = 1.0;      ///< [px] error a visible garment may show; > 0
+    bool fixedCostModel = false;      ///< deterministic cost predictions (tests, replays) instead
+                                      ///< of learning them from measured times; with learned costs
+                                      ///< the chosen levels follow this machine's timing
+    double gravity[3] = {0.0, -9.81, 0.0}; ///< [m/s^2] finite
+    uint32_t maxUpdateInterval = 8;   ///< [frames] slowest update of a far garment, power of two
+    Status validate() const;
+};
+
+enum class GarmentKind : uint32_t {
+    Cape = 0,    ///< a rectangle hung from the shoulders behind the back
+    Skirt = 1,   ///< a tube hung from the waist
+    Dress = 2,   ///< front and back panels sewn along both sides, hung from the shoulders
+    Poncho = 3,  ///< front and back panels sewn over the shoulders
+};
+
+/// A garment design, cooked once and shared by every character that wears it.
+struct ClothAssetDesc {
+    GarmentKind kind = GarmentKind::Cape;
+    double width = 0.8;              ///< [m] panel width (skirt: waist circumference); (0, 10]
+    double length = 1.0;             ///< [m] from the attachment down; (0, 10]
+    double cellSize = 0.2;           ///< [m] base (level 0) grid spacing; (0, 1]
+    uint32_t levelCount = 5;         ///< [-] uniform levels 0..levelCount-1, each halving triangle
+                                     ///< area; [1, 10]
+    uint32_t renderLevel = 6;        ///< [-] level of the fixed render mesh; >= levelCount - 1, <= 10
+    double arealDensity = 0.15;      ///< [kg/m^2] > 0
+    double stretchStiffness = 5.0e3; ///< [N/m] > 0
+    double shearStiffness = 5.0e2;   ///< [N/m] > 0
+    double bendStiffness = 1.0e-5;   ///< [N m] >= 0
+    double damping = 0.0;            ///< [s] Rayleigh stiffness-proportional; >= 0
+    double thickness = 0.01;         ///< [m] collision offset from the body; > 0
+    double friction = 0.3;           ///< [-] Coulomb coefficient against the body; [0, 2]
+    double foldRadius = 0.1;         ///< [m] typical fold radius of the drape: a level with edges h
+                                     ///< misses about h^2 / (8 foldRadius) of it (error model); > 0
+    Status validate() const;
+};
+
+/// Proportions of a built-in procedural mannequin (see engine/character's MannequinParams).
+struct MannequinDesc {
+    double height = 1.80;         ///< [m] [1.0, 2.5]
+    double shoulderWidth = 0.40;  ///< [m] [0.25, 0.6]
+    double hipWidth = 0.34;       ///< [m] [0.22, 0.55]
+    double waistWidth = 0.28;     ///< [m] [0.18, 0.5]
+    double limbGirth = 1.0;       ///< [-] [0.6, 1.6]
+};
+
+/// One animated character in the world.
+struct CharacterDesc {
+    BodyId body{};                   ///< from addMannequinBody / addBody
+    const char* clip = "walk";       ///< clip name; nullptr or "" = the rest pose
+    double clipTime = 0.0;           ///< [s] where the clip starts; advanced by step(dt)
+    double playbackRate = 1.0;       ///< [-] clip seconds per world second; [0, 10]
+    double position[3] = {0, 0, 0};  ///< [m] root position on the ground
+    double yaw = 0.0;                ///< [rad] heading about +Y (0 faces +Z)
+};
+
+/// One garment worn by a character.
+struct GarmentDesc {
+    double importance = 1.0;  ///< [-] weight of its error when the budget is tight; > 0
+};
+
+/// A camera: how the world lands on screen (column-major, OpenGL clip convention).
+struct CameraDesc {
+    double viewProjection[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    double viewportWidth = 1920.0;   ///< [px] > 0
+    double viewportHeight = 1080.0;  ///< [px] > 0
+};
+
+/// A garment's render mesh: fixed topology, valid until the next step() or removal.
+struct RenderMeshView {
+    const float* positions = nullptr;  ///< [m] xyz per vertex, tightly packed
+    const float* normals = nullptr;    ///< unit xyz per vertex
+    uint32_t vertexCount = 0;
+    const uint32_t* indices = nullptr; ///< 3 per triangle, counter-clockwise seen from the front
+    uint32_t triangleCount = 0;
+};
+
+enum class SolverKind : uint32_t { ExplicitEuler = 0, ImplicitPcg = 1, ImplicitCholmod = 2 };
+enum class CollisionKind : uint32_t { None = 0, Proxies = 1, Mesh = 2, MeshContinuous = 3 };
+
+/// What happened to one garment in the last frame.
+struct GarmentStats {
+    int32_t level = -1;              ///< uniform level simulated
+    uint32_t vertexCount = 0;        ///< simulated vertices
+    SolverKind solver = SolverKind::ImplicitPcg;
+    uint32_t substeps = 1;
+    uint32_t updateInterval = 1;     ///< [frames] 0 = asleep
+    bool updated = false;            ///< stepped this frame (else carried with its character, or asleep)
+    bool levelSwitched = false;      ///< changed level or solver this frame
+    CollisionKind collision = CollisionKind::None;
+    bool selfCollision = false;
+    uint32_t contacts = 0;
+    uint32_t failSafes = 0;          ///< self-collision impact zones that had to be frozen
+    bool failed = false;             ///< the step failed; the garment kept its last good state
+    double screenRadiusPx = 0.0;
+    double predictedErrorPx = 0.0;
+    double predictedMs = 0.0;        ///< [ms] predicted cost of this frame's update
+    double measuredMs = 0.0;         ///< [ms] measured (0 when not updated)
+    double collisionMs = 0.0;        ///< [ms] of measuredMs spent on contacts
+    double maxStrain = 0.0;          ///< [-] largest edge strain after the update
+};
+
+/// Totals of the last frame.
+struct FrameStats {
+    uint64_t frame = 0;
+    double bodiesMs = 0.0, scheduleMs = 0.0, simulateMs = 0.0, publishMs = 0.0, totalMs = 0.0; ///< [ms] wall
+    double predictedCpuMs = 0.0;     ///< [ms] sum of predicted garment costs
+    double measuredCpuMs = 0.0;      ///< [ms] sum of measured garment costs
+    double budgetCpuMs = 0.0;        ///< [ms] what the scheduler was allowed (frame budget x threads)
+    uint32_t garments = 0, updated = 0, asleep = 0, visible = 0, failed = 0, levelSwitches = 0;
+    uint32_t garmentsPerLevel[16] = {};
+    uint32_t threads = 1;
+};
+
+/// The crowd: characters, the garments they wear, cameras and the frame budget.
+///
+/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP; the
+/// result does not depend on the thread count (with the fixed cost model, bit for bit).
+///
+///   cc::World* world = cc::World::create({}).value();
+///   cc::AssetId cape = world->addClothAsset({}).value();
+///   cc::BodyId body = world->addMannequinBody({}).value();
+///   cc::CharacterDesc c; c.body = body;
+///   cc::CharacterId walker = world->addCharacter(c).value();
+///   cc::GarmentId g = world->addGarment(cape, walker, {}).value();
+///   for (int frame = 0; frame < 600; ++frame) { world->step(1.0 / 60); draw(world->renderMesh(g).value()); }
+///   cc::World::destroy(world);
+class World {
+public:
+    static Result<World*> create(const WorldDesc& desc);
+    static void destroy(World* world);
+
+    Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
+    Result<BodyId> addMannequinBody(const MannequinDesc& desc);
+    /// A body the host skins itself: bind-pose vertices (xyz floats, `stride` bytes apart) and
+    /// triangles; its characters then take setCharacterSkinnedVertices() every frame.
+    Result<BodyId> addSkinnedBody(const float* bindPositions, uint32_t vertexCount, uint32_t strideBytes,
+                                  const uint32_t* triangles, uint32_t triangleCount);
+
+    Result<CharacterId> addCharacter(const CharacterDesc& desc);
+    Status removeCharacter(CharacterId id);  ///< also removes its garments
+    /// Moves a character's root [m] and heading [rad] for the next step.
+    Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
+    /// Host-skinned bodies: this frame's vertices in world space (xyz floats, `stride` bytes apart).
+    Status setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t vertexCount,
+                                       uint32_t strideBytes);
+
+    Result<GarmentId> addGarment(AssetId asset, CharacterId character, const GarmentDesc& desc);
+    Status removeGarment(GarmentId id);
+
+    Status setCameras(const CameraDesc* cameras, uint32_t count);
+    Status setFrameBudget(double milliseconds);
+
+    /// Advances the world by dt [s], (0, 0.1]: bodies, schedule, level switches, simulation in
+    /// parallel, publishing. A garment whose step fails keeps its last good state and is reported
+    /// in its stats; the frame goes on.
+    Status step(double dt);
+
+    Result<RenderMeshView> renderMesh(GarmentId id) const;
+    Result<GarmentStats> garmentStats(GarmentId id) const;
+    const FrameStats& frameStats() const;
+    /// The last frame's stats (totals and every garment) as a JSON document.
+    std::string statsJson() const;
+    /// Bitwise digest of every garment's simulated state, for determinism tests and replays.
+    uint64_t stateHash() const;
+
+protected:
+    World() = default;
+    ~World() = default;
+};
+
+} // namespace cc

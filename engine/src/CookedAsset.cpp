@@ -1,0 +1,136 @@
+#include "CookedAsset.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "crowdcloth/cloth/ClothSimulation.h"
+#include "crowdcloth/cloth/SymplecticEulerIntegrator.h"
+
+namespace cc {
+
+Status ClothAssetDesc::validate() const {
+    auto inRange = [](double x, double lo, double hi) { return std::isfinite(x) && x > lo && x <= hi; };
+    if (uint32_t(kind) > uint32_t(GarmentKind::Poncho)) return Status::invalidArgument("ClothAssetDesc.kind is unknown");
+    if (!inRange(width, 0.0, 10.0)) return Status::invalidArgument("ClothAssetDesc.width must be in (0, 10] m");
+    if (!inRange(length, 0.0, 10.0)) return Status::invalidArgument("ClothAssetDesc.length must be in (0, 10] m");
+    if (!inRange(cellSize, 0.0, 1.0)) return Status::invalidArgument("ClothAssetDesc.cellSize must be in (0, 1] m");
+    if (levelCount < 1 || levelCount > 10) return Status::invalidArgument("ClothAssetDesc.levelCount must be in [1, 10]");
+    if (renderLevel + 1 < levelCount || renderLevel > 10)
+        return Status::invalidArgument("ClothAssetDesc.renderLevel must be in [levelCount - 1, 10]");
+    if (!inRange(thickness, 0.0, 1.0)) return Status::invalidArgument("ClothAssetDesc.thickness must be in (0, 1] m");
+    if (!(friction >= 0.0 && friction <= 2.0)) return Status::invalidArgument("ClothAssetDesc.friction must be in [0, 2]");
+    if (!inRange(foldRadius, 0.0, 100.0)) return Status::invalidArgument("ClothAssetDesc.foldRadius must be in (0, 100] m");
+    cloth::ClothMaterial material;
+    material.arealDensity = arealDensity;
+    material.stretchStiffness = stretchStiffness;
+    material.shearStiffness = shearStiffness;
+    material.bendStiffness = bendStiffness;
+    material.damping = damping;
+    if (Status s = material.validate(); !s) return Status::invalidArgument("ClothAssetDesc: " + s.message());
+    return Status::ok();
+}
+
+namespace detail {
+namespace {
+
+Result<lod::GarmentPattern> makePattern(const ClothAssetDesc& desc) {
+    switch (desc.kind) {
+    case GarmentKind::Cape: return lod::GarmentPattern::cape(desc.width, desc.length, desc.cellSize);
+    case GarmentKind::Skirt: return lod::GarmentPattern::skirt(desc.width, desc.length, desc.cellSize);
+    case GarmentKind::Dress: return lod::GarmentPattern::dress(desc.width, desc.length, desc.cellSize);
+    case GarmentKind::Poncho: return lod::GarmentPattern::poncho(desc.width, desc.length, 0.3, desc.cellSize);
+    }
+    return Status::invalidArgument("ClothAssetDesc.kind is unknown");
+}
+
+/// Every garment hangs from the top side (v = height) of its panels: the cape's shoulder line,
+/// the skirt's waist ring, the dress's neckline ring, the poncho's shoulder seam.
+std::vector<uint32_t> topLine(const lod::GarmentHierarchy& h) {
+    std::vector<uint32_t> ids;
+    const auto& panels = h.pattern().panels;
+    for (uint32_t p = 0; p < panels.size(); ++p) {
+        const uint32_t columns = panels[p].shape == lod::PanelShape::Tube ? panels[p].columns - 1 : panels[p].columns;
+        for (uint32_t i = 0; i <= columns; ++i) ids.push_back(h.baseVertex(p, i, panels[p].rows));
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+}
+
+/// Substeps symplectic Euler needs for a 60 Hz frame at rest, or 0 when that is more than is
+/// ever worth it (the implicit solve is then cheaper per frame).
+int explicitSubstepsAtRest(const lod::ActiveMesh& active, const cloth::ClothMaterial& material) {
+    constexpr int kWorthIt = 64;
+    cloth::SimulationSettings settings;
+    settings.integrator = cloth::IntegratorKind::SymplecticEuler;
+    settings.parallel.maxThreads = 1;
+    auto sim = cloth::ClothSimulation::create(active.mesh, material, settings);
+    if (!sim.isOk()) return 0;
+    cloth::IntegratorSettings common;
+    common.damping = material.damping;
+    cloth::SymplecticEulerIntegrator probe(sim.value()->forceModel(), common, {});
+    const int n = probe.requiredSubsteps(1.0 / 60.0, sim.value()->state());
+    return n <= kWorthIt ? n : 0;
+}
+
+} // namespace
+
+Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc) {
+    if (Status s = desc.validate(); !s) return s;
+    auto pattern = makePattern(desc);
+    if (!pattern.isOk()) return Status::invalidArgument("ClothAssetDesc: " + pattern.status().message());
+
+    CookedAsset asset;
+    asset.desc = desc;
+    asset.material.arealDensity = desc.arealDensity;
+    asset.material.stretchStiffness = desc.stretchStiffness;
+    asset.material.shearStiffness = desc.shearStiffness;
+    asset.material.bendStiffness = desc.bendStiffness;
+    asset.material.damping = desc.damping;
+
+    lod::HierarchySettings hs;
+    hs.arealDensity = desc.arealDensity;
+    hs.maxLevel = std::max(desc.renderLevel, desc.levelCount - 1);
+    hs.renderLevel = desc.renderLevel;
+    auto base = lod::GarmentHierarchy::create(pattern.value(), hs);
+    if (!base.isOk()) return Status::invalidArgument("ClothAssetDesc: " + base.status().message());
+    asset.renderTriangles = base.value().renderTriangles();
+    asset.renderVertexCount = base.value().renderVertexCount();
+    asset.attachedVertices = topLine(base.value());
+
+    std::vector<uint32_t> renderIds(asset.renderVertexCount);
+    for (uint32_t r = 0; r < asset.renderVertexCount; ++r) renderIds[r] = r;
+    for (uint32_t level = 0; level < desc.levelCount; ++level) {
+        CookedLevel cooked;
+        cooked.hierarchy = base.value();
+        if (Status s = cooked.hierarchy.setUniformLevel(level); !s) return s;
+        cooked.active = cooked.hierarchy.activeMesh();
+        auto render = cooked.hierarchy.interpolation(cooked.active, renderIds);
+        if (!render.isOk()) return render.status();
+        cooked.render = std::move(render).value();
+        for (uint32_t slot = 0; slot < asset.attachedVertices.size(); ++slot) {
+            const uint32_t sim = cooked.active.vertexToSim[asset.attachedVertices[slot]];
+            cooked.attached.push_back({sim, slot});
+            for (const auto& weld : cooked.active.welds)
+                if (weld[0] == sim) cooked.attached.push_back({weld[1], slot});
+        }
+        std::sort(cooked.attached.begin(), cooked.attached.end(),
+                  [](const AttachedVertex& a, const AttachedVertex& b) { return a.sim < b.sim; });
+        // Interpolating a surface of fold radius R with edges h misses it by about h^2 / (8 R);
+        // each 4-8 level halves the triangle area, so h^2 halves too.
+        const double h2 = desc.cellSize * desc.cellSize / std::pow(2.0, double(level));
+        cooked.errorMetres = h2 / (8.0 * desc.foldRadius);
+        cooked.explicitSubsteps = explicitSubstepsAtRest(cooked.active, asset.material);
+        asset.levels.push_back(std::move(cooked));
+    }
+
+    std::vector<Vec3> renderPositions, renderNormals;
+    asset.levels.back().hierarchy.renderPositions(renderPositions, renderNormals);
+    for (const Vec3& p : renderPositions) asset.centroid += p;
+    asset.centroid /= double(std::max<std::size_t>(renderPositions.size(), 1));
+    for (const Vec3& p : renderPositions) asset.radius = std::max(asset.radius, (p - asset.centroid).norm());
+    return asset;
+}
+
+} // namespace detail
+} // namespace cc

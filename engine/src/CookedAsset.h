@@ -1,0 +1,48 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "crowdcloth/World.h"
+#include "crowdcloth/cloth/ClothMaterial.h"
+#include "crowdcloth/core/SparseInterpolation.h"
+#include "crowdcloth/lod/ActiveMesh.h"
+#include "crowdcloth/lod/CrowdScheduler.h"
+#include "crowdcloth/lod/GarmentHierarchy.h"
+
+namespace cc::detail {
+
+/// A simulation vertex that follows the body: `slot` indexes CookedAsset::attachedVertices.
+struct AttachedVertex {
+    uint32_t sim = 0;
+    uint32_t slot = 0;
+};
+
+/// One uniform level of a cooked garment: what every instance simulating that level shares.
+struct CookedLevel {
+    lod::GarmentHierarchy hierarchy;  ///< at this uniform level, copied to transfer state
+    lod::ActiveMesh active;           ///< the solver's mesh (asset-space positions) and index maps
+    SparseInterpolation render;       ///< render vertices from this level's simulation vertices
+    std::vector<AttachedVertex> attached;  ///< by simulation index (welded copies included)
+    double errorMetres = 0.0;         ///< [m] predicted drape error against the render level
+    int explicitSubsteps = 0;         ///< [-] symplectic Euler substeps per 60 Hz frame; 0 = not offered
+};
+
+/// A garment design cooked once and shared, immutable, by every instance (STYLE.md §5): the
+/// pattern's 4-8 hierarchy at each uniform level, render topology and the attachment line.
+struct CookedAsset {
+    ClothAssetDesc desc;
+    cloth::ClothMaterial material;
+    std::vector<CookedLevel> levels;                       ///< coarsest first
+    std::vector<std::array<uint32_t, 3>> renderTriangles;  ///< fixed for the asset's lifetime
+    uint32_t renderVertexCount = 0;
+    std::vector<uint32_t> attachedVertices;                ///< hierarchy ids of the attachment line
+    Vec3 centroid = Vec3::Zero();                          ///< [m] asset space, of the render mesh
+    double radius = 0.0;                                   ///< [m] bounding sphere about the centroid
+};
+
+/// Validates `desc`, builds the pattern, the hierarchy and every level. Fails naming the field.
+Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc);
+
+} // namespace cc::detail

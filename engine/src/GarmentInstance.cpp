@@ -1,0 +1,184 @@
+#include "GarmentInstance.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace cc::detail {
+namespace {
+
+constexpr int kMorphFrames = 8;  ///< frames over which a level switch's render difference fades
+
+/// Targets of bound points on a host-skinned body: the barycentric point of the host's vertices
+/// plus the bind offset (no skeleton, so no rotation to carry it with).
+void hostTargets(const SkinBinding& binding, const CharacterInstance& character, Span<Vec3> outTargets) {
+    const auto& triangles = character.body->mesh().triangles;
+    for (std::size_t i = 0; i < binding.size(); ++i) {
+        const BoundVertex& b = binding.vertices()[i];
+        Vec3 p = b.offset;
+        for (int k = 0; k < 3; ++k) p += b.barycentric[k] * character.skinnedPositions[triangles[b.triangle][k]];
+        outTargets[i] = p;
+    }
+}
+
+Status boundTargets(const SkinBinding& binding, CharacterInstance& character, Span<Vec3> outTargets) {
+    if (character.body->hostSkinned) {
+        if (Status s = character.updateSkin(); !s) return s;
+        hostTargets(binding, character, outTargets);
+        return Status::ok();
+    }
+    if (Status s = character.updatePose(); !s) return s;
+    return binding.evaluate(character.body->mesh(), character.pose.skinMatrices(), outTargets, {}, {});
+}
+
+void weldCopies(const lod::ActiveMesh& active, cloth::ClothState& state) {
+    for (const auto& [a, b] : active.welds) {
+        const double ma = state.masses[a], mb = state.masses[b];
+        const Vec3 x = (ma * state.positions[a] + mb * state.positions[b]) / (ma + mb);
+        const Vec3 v = (ma * state.velocities[a] + mb * state.velocities[b]) / (ma + mb);
+        state.positions[a] = state.positions[b] = x;
+        state.velocities[a] = state.velocities[b] = v;
+    }
+}
+
+} // namespace
+
+Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr<const CookedAsset> asset,
+                                                                 uint32_t assetIndex, CharacterInstance& character,
+                                                                 CharacterId characterId, const GarmentDesc& desc) {
+    if (!(std::isfinite(desc.importance) && desc.importance > 0.0))
+        return Status::invalidArgument("GarmentDesc.importance must be > 0");
+    std::unique_ptr<GarmentInstance> g(new GarmentInstance());
+    g->mAsset = std::move(asset);
+    g->mAssetIndex = assetIndex;
+    g->mCharacterId = characterId;
+    g->mImportance = desc.importance;
+    g->mPlacement = garmentPlacement(*character.body, g->mAsset->desc.kind, g->mAsset->desc.length,
+                                     g->mAsset->desc.thickness);
+    if (Status s = g->bindAttachments(character); !s) return s;
+
+    // Start at level 0 with every vertex carried by the body point nearest to it, so a skirt put
+    // on mid-stride starts around the legs where they are.
+    const CookedLevel& level0 = g->mAsset->levels[0];
+    std::vector<Vec3> bindPositions(level0.active.mesh.positions.size());
+    for (std::size_t i = 0; i < bindPositions.size(); ++i) bindPositions[i] = level0.active.mesh.positions[i] + g->mPlacement;
+    SkinBindingSettings wide;
+    wide.maxBindDistance = 10.0;
+    auto carried = SkinBinding::bind(character.body->mesh(), bindPositions, wide);
+    if (!carried.isOk()) return Status::invalidArgument("addGarment: " + carried.status().message());
+    std::vector<Vec3> start(bindPositions.size());
+    if (Status s = boundTargets(carried.value(), character, start); !s) return s;
+
+    cloth::SimulationSettings settings;
+    settings.parallel.maxThreads = 1;
+    auto sim = cloth::ClothSimulation::create(level0.active.mesh, g->mAsset->material, settings);
+    if (!sim.isOk()) return sim.status();
+    g->mSim = std::move(sim).value();
+    g->mSim->state().positions = start;
+    g->mLevel = 0;
+    g->mRenderIndices.reserve(3 * g->mAsset->renderTriangles.size());
+    for (const auto& t : g->mAsset->renderTriangles) g->mRenderIndices.insert(g->mRenderIndices.end(), t.begin(), t.end());
+    g->publish(character);
+    return g;
+}
+
+Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
+    const lod::GarmentHierarchy& base = mAsset->levels[0].hierarchy;
+    std::vector<Vec3> bindPositions;
+    for (uint32_t id : mAsset->attachedVertices) bindPositions.push_back(base.position(id) + mPlacement);
+    SkinBindingSettings settings;
+    settings.maxBindDistance = 1.0;
+    auto binding = SkinBinding::bind(character.body->mesh(), bindPositions, settings);
+    if (!binding.isOk()) return Status::invalidArgument("addGarment: attachment " + binding.status().message());
+    mAttachments = std::move(binding).value();
+    mTargets.resize(mAttachments.size());
+    return Status::ok();
+}
+
+Result<bool> GarmentInstance::configure(int level, const cloth::SimulationSettings& settings) {
+    if (level == mLevel && settings.integrator == mSim->settings().integrator) return false;
+    const CookedLevel& from = mAsset->levels[mLevel];
+    const CookedLevel& to = mAsset->levels[level];
+    std::vector<Vec3> before;
+    localRenderPositions(before);
+
+    lod::GarmentHierarchy h = from.hierarchy;
+    if (Status s = h.readState(from.active, mSim->state().positions, mSim->state().velocities); !s) return s;
+    if (Status s = h.setUniformLevel(uint32_t(level)); !s) return s;
+    std::vector<Vec3> positions, velocities;
+    h.writeState(to.active, positions, velocities);
+    auto sim = cloth::ClothSimulation::create(to.active.mesh, mAsset->material, settings);
+    if (!sim.isOk()) return sim.status();
+    mSim = std::move(sim).value();
+    mSim->state().positions = std::move(positions);
+    mSim->state().velocities = std::move(velocities);
+    mLevel = level;
+
+    std::vector<Vec3> after;
+    localRenderPositions(after);
+    mMorph.resize(after.size());
+    for (std::size_t r = 0; r < after.size(); ++r) mMorph[r] = before[r] - after[r];
+    mMorphFramesLeft = kMorphFrames;
+    return true;
+}
+
+Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdateContext& ctx) {
+    if (Status s = boundTargets(mAttachments, character, mTargets); !s) return s;
+    cloth::ConstraintSet& constraints = mSim->constraints();
+    for (const AttachedVertex& a : mAsset->levels[mLevel].attached)
+        if (Status s = constraints.setTarget(a.sim, mTargets[a.slot]); !s) return s;
+    if (Status s = mSim->step(ctx.dt); !s) return s;
+    weldCopies(mAsset->levels[mLevel].active, mSim->state());
+    return Status::ok();
+}
+
+void GarmentInstance::localRenderPositions(std::vector<Vec3>& out) const {
+    mAsset->levels[mLevel].render.apply(mSim->state().positions, out);
+}
+
+void GarmentInstance::publish(const CharacterInstance& character) {
+    localRenderPositions(mLocalRender);
+    if (mMorphFramesLeft > 0) {
+        const double fade = double(mMorphFramesLeft) / kMorphFrames;
+        for (std::size_t r = 0; r < mLocalRender.size(); ++r) mLocalRender[r] += fade * mMorph[r];
+        --mMorphFramesLeft;
+    }
+    const Mat3 rotation = character.rotation();
+    const std::size_t n = mLocalRender.size();
+    mRenderPositions.resize(3 * n);
+    mRenderNormals.resize(3 * n);
+    std::vector<Vec3>& world = mLocalRender;
+    for (std::size_t r = 0; r < n; ++r) world[r] = rotation * world[r] + character.position;
+    std::vector<Vec3>& normals = mNormals;
+    normals.assign(n, Vec3::Zero());
+    for (const auto& t : mAsset->renderTriangles) {
+        const Vec3 areaNormal = (world[t[1]] - world[t[0]]).cross(world[t[2]] - world[t[0]]);
+        for (uint32_t v : t) normals[v] += areaNormal;  // area-weighted vertex normals
+    }
+    for (std::size_t r = 0; r < n; ++r) {
+        const double len = normals[r].norm();
+        const Vec3 unit = len > 0.0 ? Vec3(normals[r] / len) : Vec3::UnitY();
+        for (int k = 0; k < 3; ++k) {
+            mRenderPositions[3 * r + k] = float(world[r][k]);
+            mRenderNormals[3 * r + k] = float(unit[k]);
+        }
+    }
+}
+
+RenderMeshView GarmentInstance::renderView() const {
+    RenderMeshView view;
+    view.positions = mRenderPositions.data();
+    view.normals = mRenderNormals.data();
+    view.vertexCount = uint32_t(mRenderPositions.size() / 3);
+    view.indices = mRenderIndices.data();
+    view.triangleCount = uint32_t(mRenderIndices.size() / 3);
+    return view;
+}
+
+double GarmentInstance::specificKineticEnergy() const {
+    const cloth::ClothState& s = mSim->state();
+    double mass = 0.0;
+    for (double m : s.masses) mass += m;
+    return mass > 0.0 ? s.kineticEnergy() / mass : 0.0;
+}
+
+} // namespace cc::detail

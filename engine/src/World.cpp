@@ -1,0 +1,58 @@
+#include "crowdcloth/World.h"
+
+#include "WorldImpl.h"
+
+namespace cc {
+namespace {
+
+detail::WorldImpl& impl(World* w) { return *static_cast<detail::WorldImpl*>(w); }
+const detail::WorldImpl& impl(const World* w) { return *static_cast<const detail::WorldImpl*>(w); }
+
+} // namespace
+
+Result<World*> World::create(const WorldDesc& desc) {
+    if (Status s = desc.validate(); !s) return s;
+    World* world = new detail::WorldImpl(desc);
+    return world;
+}
+
+void World::destroy(World* world) { delete static_cast<detail::WorldImpl*>(world); }
+
+Result<AssetId> World::addClothAsset(const ClothAssetDesc& desc) { return impl(this).addClothAsset(desc); }
+
+Result<BodyId> World::addMannequinBody(const MannequinDesc& desc) {
+    auto body = detail::makeMannequinBody(desc);
+    if (!body.isOk()) return body.status();
+    return impl(this).addBody(std::move(body).value());
+}
+
+Result<BodyId> World::addSkinnedBody(const float* bindPositions, uint32_t vertexCount, uint32_t strideBytes,
+                                     const uint32_t* triangles, uint32_t triangleCount) {
+    auto body = detail::makeHostSkinnedBody(bindPositions, vertexCount, strideBytes, triangles, triangleCount);
+    if (!body.isOk()) return body.status();
+    return impl(this).addBody(std::move(body).value());
+}
+
+Result<CharacterId> World::addCharacter(const CharacterDesc& desc) { return impl(this).addCharacter(desc); }
+Status World::removeCharacter(CharacterId id) { return impl(this).removeCharacter(id); }
+Status World::setCharacterRoot(CharacterId id, const double position[3], double yaw) {
+    return impl(this).setCharacterRoot(id, position, yaw);
+}
+Status World::setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t vertexCount,
+                                          uint32_t strideBytes) {
+    return impl(this).setCharacterSkinnedVertices(id, positions, vertexCount, strideBytes);
+}
+Result<GarmentId> World::addGarment(AssetId asset, CharacterId character, const GarmentDesc& desc) {
+    return impl(this).addGarment(asset, character, desc);
+}
+Status World::removeGarment(GarmentId id) { return impl(this).removeGarment(id); }
+Status World::setCameras(const CameraDesc* cameras, uint32_t count) { return impl(this).setCameras(cameras, count); }
+Status World::setFrameBudget(double milliseconds) { return impl(this).setFrameBudget(milliseconds); }
+Status World::step(double dt) { return impl(this).step(dt); }
+Result<RenderMeshView> World::renderMesh(GarmentId id) const { return impl(this).renderMesh(id); }
+Result<GarmentStats> World::garmentStats(GarmentId id) const { return impl(this).garmentStats(id); }
+const FrameStats& World::frameStats() const { return impl(this).frameStats(); }
+std::string World::statsJson() const { return impl(this).statsJson(); }
+uint64_t World::stateHash() const { return impl(this).stateHash(); }
+
+} // namespace cc

@@ -1,0 +1,399 @@
+#include "WorldImpl.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "crowdcloth/core/Hash.h"
+#include "crowdcloth/core/ParallelFor.h"
+
+#ifdef CC_HAVE_OPENMP
+#include <omp.h>
+#endif
+
+namespace cc {
+
+Status WorldDesc::validate() const {
+    if (!(std::isfinite(frameBudgetMs) && frameBudgetMs > 0.0))
+        return Status::invalidArgument("WorldDesc.frameBudgetMs must be > 0");
+    if (!(std::isfinite(pixelTolerance) && pixelTolerance > 0.0))
+        return Status::invalidArgument("WorldDesc.pixelTolerance must be > 0");
+    for (double g : gravity)
+        if (!std::isfinite(g)) return Status::invalidArgument("WorldDesc.gravity must be finite");
+    if (maxUpdateInterval < 1 || maxUpdateInterval > 64 || (maxUpdateInterval & (maxUpdateInterval - 1)))
+        return Status::invalidArgument("WorldDesc.maxUpdateInterval must be a power of two in [1, 64]");
+    if (maxThreads > 1024) return Status::invalidArgument("WorldDesc.maxThreads must be <= 1024");
+    return Status::ok();
+}
+
+namespace detail {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+Status staleHandle(const char* what) {
+    return Status::invalidArgument(std::string(what) + " is null, stale or from another world");
+}
+
+cloth::IntegratorKind integratorFor(lod::SolverChoice solver) {
+    switch (solver) {
+    case lod::SolverChoice::ExplicitEuler: return cloth::IntegratorKind::SymplecticEuler;
+    case lod::SolverChoice::ImplicitCholmod: return cloth::IntegratorKind::ImplicitCholmod;
+    case lod::SolverChoice::ImplicitPcg: break;
+    }
+    return cloth::IntegratorKind::ImplicitPcg;
+}
+
+/// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
+/// (~4 mm/s) with a still body.
+constexpr double kRestEnergy = 1e-5;
+
+} // namespace
+
+WorldImpl::WorldImpl(const WorldDesc& desc)
+    : mDesc(desc), mCostModel(desc.fixedCostModel ? lod::CostModel::Mode::Fixed : lod::CostModel::Mode::Learned) {}
+
+int WorldImpl::threadCount() const {
+#ifdef CC_HAVE_OPENMP
+    return mDesc.maxThreads > 0 ? int(mDesc.maxThreads) : omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+Result<AssetId> WorldImpl::addClothAsset(const ClothAssetDesc& desc) {
+    auto cooked = cookClothAsset(desc);
+    if (!cooked.isOk()) return cooked.status();
+    auto record = std::make_unique<AssetRecord>();
+    record->asset = std::make_shared<const CookedAsset>(std::move(cooked).value());
+    const auto h = mAssets.add(std::move(record));
+    return AssetId{h.index1, h.generation};
+}
+
+Result<BodyId> WorldImpl::addBody(BodyAsset body) {
+    auto record = std::make_unique<BodyRecord>();
+    record->body = std::make_shared<const BodyAsset>(std::move(body));
+    const auto h = mBodies.add(std::move(record));
+    return BodyId{h.index1, h.generation};
+}
+
+Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
+    const BodyRecord* body = mBodies.get(desc.body);
+    if (!body) return staleHandle("CharacterDesc.body");
+    const Vec3 position(desc.position[0], desc.position[1], desc.position[2]);
+    if (!isFinite(position) || !std::isfinite(desc.yaw))
+        return Status::invalidArgument("CharacterDesc.position and yaw must be finite");
+    if (!std::isfinite(desc.clipTime)) return Status::invalidArgument("CharacterDesc.clipTime must be finite");
+    if (!(desc.playbackRate >= 0.0 && desc.playbackRate <= 10.0))
+        return Status::invalidArgument("CharacterDesc.playbackRate must be in [0, 10]");
+    auto c = std::make_unique<CharacterInstance>();
+    c->body = body->body;
+    if (desc.clip && desc.clip[0] != '\0' && !body->body->hostSkinned) {
+        c->clip = body->body->mannequin.character.findClip(desc.clip);
+        if (c->clip < 0) return Status::invalidArgument(std::string("CharacterDesc.clip: no clip named '") + desc.clip + "'");
+    }
+    c->clipTime = desc.clipTime;
+    c->playbackRate = desc.playbackRate;
+    c->position = c->previousPosition = position;
+    c->yaw = desc.yaw;
+    if (!body->body->hostSkinned) {
+        c->pose = CharacterPose(body->body->mannequin.character);
+        if (Status s = c->updatePose(); !s) return s;
+    } else {
+        c->skinnedPositions = body->body->mesh().bindPositions;
+        c->skinnedCurrent = true;
+    }
+    const auto h = mCharacters.add(std::move(c));
+    return CharacterId{h.index1, h.generation};
+}
+
+Status WorldImpl::removeCharacter(CharacterId id) {
+    CharacterInstance* c = mCharacters.get(id);
+    if (!c) return staleHandle("character");
+    for (GarmentId g : c->garments) mGarments.remove(g);
+    mCharacters.remove(id);
+    return Status::ok();
+}
+
+Status WorldImpl::setCharacterRoot(CharacterId id, const double position[3], double yaw) {
+    CharacterInstance* c = mCharacters.get(id);
+    if (!c) return staleHandle("character");
+    if (!position) return Status::invalidArgument("setCharacterRoot: position is null");
+    const Vec3 p(position[0], position[1], position[2]);
+    if (!isFinite(p) || !std::isfinite(yaw))
+        return Status::invalidArgument("setCharacterRoot: position and yaw must be finite");
+    c->position = p;
+    c->yaw = yaw;
+    return Status::ok();
+}
+
+Status WorldImpl::setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t count, uint32_t stride) {
+    CharacterInstance* c = mCharacters.get(id);
+    if (!c) return staleHandle("character");
+    if (!c->body->hostSkinned)
+        return Status::error(StatusCode::InvalidOperation,
+                             "setCharacterSkinnedVertices: this character's body is skinned by crowdcloth");
+    if (count != c->body->mesh().vertexCount())
+        return Status::invalidArgument("setCharacterSkinnedVertices: " + std::to_string(count) + " vertices for a body of " +
+                                       std::to_string(c->body->mesh().vertexCount()));
+    std::vector<Vec3> world;
+    if (Status s = readFloat3(positions, count, stride, "setCharacterSkinnedVertices", world); !s) return s;
+    const Mat3 inverse = c->rotation().transpose();
+    c->skinnedPositions.resize(count);
+    for (uint32_t i = 0; i < count; ++i) c->skinnedPositions[i] = inverse * (world[i] - c->position);
+    c->hostVerticesGiven = true;
+    c->skinnedCurrent = true;
+    return Status::ok();
+}
+
+Result<GarmentId> WorldImpl::addGarment(AssetId assetId, CharacterId characterId, const GarmentDesc& desc) {
+    const AssetRecord* asset = mAssets.get(assetId);
+    if (!asset) return staleHandle("asset");
+    CharacterInstance* c = mCharacters.get(characterId);
+    if (!c) return staleHandle("character");
+    auto g = GarmentInstance::create(asset->asset, assetId.index1, *c, characterId, desc);
+    if (!g.isOk()) return g.status();
+    g.value()->lastUpdateTime = mTime;
+    const auto h = mGarments.add(std::move(g).value());
+    const GarmentId id{h.index1, h.generation};
+    c->garments.push_back(id);
+    return id;
+}
+
+Status WorldImpl::removeGarment(GarmentId id) {
+    GarmentInstance* g = mGarments.get(id);
+    if (!g) return staleHandle("garment");
+    if (CharacterInstance* c = mCharacters.get(g->character())) {
+        auto& list = c->garments;
+        list.erase(std::remove_if(list.begin(), list.end(),
+                                  [&](GarmentId x) { return x.index1 == id.index1 && x.generation == id.generation; }),
+                   list.end());
+    }
+    mGarments.remove(id);
+    return Status::ok();
+}
+
+Status WorldImpl::setCameras(const CameraDesc* cameras, uint32_t count) {
+    if (count > 0 && !cameras) return Status::invalidArgument("setCameras: cameras is null");
+    std::vector<lod::SchedulerCamera> converted(count);
+    for (uint32_t c = 0; c < count; ++c) {
+        for (int k = 0; k < 16; ++k) converted[c].viewProjection(k % 4, k / 4) = cameras[c].viewProjection[k];
+        converted[c].viewportWidth = cameras[c].viewportWidth;
+        converted[c].viewportHeight = cameras[c].viewportHeight;
+        if (!converted[c].viewProjection.allFinite())
+            return Status::invalidArgument("setCameras: camera " + std::to_string(c) + " viewProjection is not finite");
+        if (!(cameras[c].viewportWidth > 0.0 && cameras[c].viewportHeight > 0.0 &&
+              std::isfinite(cameras[c].viewportWidth) && std::isfinite(cameras[c].viewportHeight)))
+            return Status::invalidArgument("setCameras: camera " + std::to_string(c) + " viewport must be > 0 pixels");
+    }
+    mCameras = std::move(converted);
+    return Status::ok();
+}
+
+Status WorldImpl::setFrameBudget(double milliseconds) {
+    if (!(std::isfinite(milliseconds) && milliseconds > 0.0))
+        return Status::invalidArgument("setFrameBudget: milliseconds must be > 0");
+    mDesc.frameBudgetMs = milliseconds;
+    return Status::ok();
+}
+
+const lod::GarmentProfile& WorldImpl::profileOf(uint32_t assetIndex) { return mProfiles[mProfileOfAsset[assetIndex]]; }
+
+Status WorldImpl::scheduleFrame(double dt) {
+    // One profile per asset, costed by the current cost model.
+    mProfiles.clear();
+    mProfileOfAsset.assign(mAssets.size() + 64, 0);
+    mAssets.forEach([&](auto handle, const AssetRecord& record) {
+        if (handle.index1 >= mProfileOfAsset.size()) mProfileOfAsset.resize(handle.index1 + 1, 0);
+        mProfileOfAsset[handle.index1] = uint32_t(mProfiles.size());
+        lod::GarmentProfile profile;
+        for (std::size_t l = 0; l < record.asset->levels.size(); ++l) {
+            const CookedLevel& level = record.asset->levels[l];
+            const std::size_t n = level.active.mesh.vertexCount();
+            lod::LevelProfile lp;
+            lp.errorMetres = level.errorMetres;
+            lp.costMs[int(lod::SolverChoice::ImplicitPcg)] =
+                mCostModel.predictMs(handle.index1, int(l), lod::SolverChoice::ImplicitPcg, n, 1);
+            if (level.explicitSubsteps > 0) {
+                lp.explicitSubsteps = level.explicitSubsteps;
+                lp.costMs[int(lod::SolverChoice::ExplicitEuler)] = mCostModel.predictMs(
+                    handle.index1, int(l), lod::SolverChoice::ExplicitEuler, n, level.explicitSubsteps);
+            }
+            profile.levels.push_back(lp);
+        }
+        mProfiles.push_back(std::move(profile));
+    });
+
+    mRequests.resize(mItems.size());
+    mSchedules.resize(mItems.size());
+    for (std::size_t i = 0; i < mItems.size(); ++i) {
+        const FrameItem& item = mItems[i];
+        lod::GarmentRequest& r = mRequests[i];
+        r.id = item.id.index1;
+        r.profile = mProfileOfAsset[item.garment->assetIndex()];
+        r.center = item.character->toWorld(item.garment->localCentre());
+        r.radius = item.garment->asset().radius;
+        r.speed = item.character->speed;
+        r.importance = item.garment->importance();
+        r.atRest = item.character->speed < 1e-3 && item.garment->specificKineticEnergy() < kRestEnergy;
+        r.previous = item.garment->schedule;
+    }
+    lod::SchedulerSettings settings;
+    settings.budgetMs = mDesc.frameBudgetMs * threadCount();
+    settings.pixelTolerance = mDesc.pixelTolerance;
+    settings.frameDt = dt;
+    settings.maxUpdateInterval = int(mDesc.maxUpdateInterval);
+    if (Status s = lod::scheduleGarments(settings, mCameras, mProfiles, mRequests, mSchedules); !s) return s;
+    mFrameStats.budgetCpuMs = settings.budgetMs;
+    for (std::size_t i = 0; i < mItems.size(); ++i) mItems[i].garment->schedule = mSchedules[i];
+    return Status::ok();
+}
+
+void WorldImpl::updateGarment(const FrameItem& item, double dt) {
+    const auto start = Clock::now();
+    GarmentInstance& g = *item.garment;
+    const lod::GarmentSchedule& schedule = g.schedule;
+    GarmentStats& stats = g.stats;
+    stats.updated = true;
+
+    cloth::SimulationSettings settings;
+    settings.integrator = integratorFor(schedule.solver);
+    settings.gravity = Vec3(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
+    settings.parallel.maxThreads = 1; // garments run in parallel; one thread each (measured faster)
+    auto configured = g.configure(schedule.level, settings);
+    Status status = configured.status();
+    if (status) {
+        GarmentUpdateContext ctx;
+        ctx.dt = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
+        // The character's frame turns only about Y, so world gravity is the same in it.
+        ctx.gravity = settings.gravity;
+        status = g.update(*item.character, ctx);
+    }
+    g.lastUpdateTime = mTime;
+    stats.failed = !status.isOk();
+    stats.measuredMs = msSince(start);
+    if (configured.isOk() && configured.value()) stats.levelSwitched = true;
+}
+
+Status WorldImpl::step(double dt) {
+    if (!(std::isfinite(dt) && dt > 0.0 && dt <= 0.1)) return Status::invalidArgument("step: dt must be in (0, 0.1] s");
+    const auto frameStart = Clock::now();
+    FrameStats& fs = mFrameStats;
+    fs = FrameStats{fs.frame + 1};
+    fs.threads = uint32_t(threadCount());
+    mTime += dt;
+
+    mCharacters.forEach([&](auto, CharacterInstance& c) {
+        c.clipTime += dt * c.playbackRate;
+        c.speed = (c.position - c.previousPosition).norm() / dt;
+        c.previousPosition = c.position;
+        c.poseCurrent = false;
+        if (!c.body->hostSkinned) c.skinnedCurrent = false;
+    });
+    mItems.clear();
+    mGarments.forEach([&](auto h, GarmentInstance& g) {
+        mItems.push_back({GarmentId{h.index1, h.generation}, &g, mCharacters.get(g.character())});
+    });
+
+    // Schedule first: it needs only bounding spheres, and it decides which bodies must be posed.
+    auto phase = Clock::now();
+    if (Status s = scheduleFrame(dt); !s) return s;
+    fs.scheduleMs = msSince(phase);
+
+    mDue.clear();
+    for (std::size_t i = 0; i < mItems.size(); ++i) {
+        GarmentInstance& g = *mItems[i].garment;
+        g.stats = GarmentStats{};
+        const int interval = g.schedule.updateInterval;
+        // Spread garments at the same rate over the frames (by id) so the load stays even.
+        if (interval > 0 && (fs.frame + mItems[i].id.index1) % uint64_t(interval) == 0) mDue.push_back(i);
+    }
+
+    // Bodies: pose each character that has a garment to update, once, before garments read it.
+    phase = Clock::now();
+    mPosed.clear();
+    for (std::size_t i : mDue) mPosed.push_back(mItems[i].character);
+    std::sort(mPosed.begin(), mPosed.end());
+    mPosed.erase(std::unique(mPosed.begin(), mPosed.end()), mPosed.end());
+    std::vector<Status> bodyStatus(mPosed.size());
+    parallelForEach(int64_t(mPosed.size()), threadCount(), [&](int64_t k) {
+        CharacterInstance& c = *mPosed[k];
+        bodyStatus[k] = c.body->hostSkinned ? c.updateSkin() : c.updatePose();
+    });
+    fs.bodiesMs = msSince(phase);
+
+    phase = Clock::now();
+    parallelForEach(int64_t(mDue.size()), threadCount(), [&](int64_t k) { updateGarment(mItems[mDue[k]], dt); });
+    fs.simulateMs = msSince(phase);
+
+    phase = Clock::now();
+    parallelForEach(int64_t(mItems.size()), threadCount(), [&](int64_t i) {
+        GarmentInstance& g = *mItems[i].garment;
+        if (g.stats.updated || g.schedule.visible) g.publish(*mItems[i].character);
+    });
+    fs.publishMs = msSince(phase);
+
+    // Totals and learning, in item order so the sums are the same for any thread count.
+    for (const FrameItem& item : mItems) {
+        GarmentInstance& g = *item.garment;
+        GarmentStats& s = g.stats;
+        const lod::GarmentSchedule& sc = g.schedule;
+        s.level = g.level();
+        s.vertexCount = g.simulation().state().vertexCount();
+        s.solver = SolverKind(sc.solver);
+        s.substeps = uint32_t(sc.substeps);
+        s.updateInterval = uint32_t(sc.updateInterval);
+        s.collision = CollisionKind(sc.collision);
+        s.selfCollision = sc.selfCollision;
+        s.screenRadiusPx = sc.screenRadiusPx;
+        s.predictedErrorPx = sc.predictedErrorPx;
+        s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;
+        if (s.updated) {
+            s.maxStrain = g.simulation().maxEdgeStrain();
+            if (!s.failed && !s.levelSwitched)
+                mCostModel.record(g.assetIndex(), g.level(), sc.solver, s.measuredMs);
+            ++fs.updated;
+            fs.predictedCpuMs += s.predictedMs;
+            fs.measuredCpuMs += s.measuredMs;
+        }
+        ++fs.garments;
+        fs.asleep += sc.updateInterval == 0;
+        fs.visible += sc.visible;
+        fs.failed += s.failed;
+        fs.levelSwitches += s.levelSwitched;
+        if (s.level >= 0 && s.level < 16) ++fs.garmentsPerLevel[s.level];
+    }
+    mCharacters.forEach([&](auto, CharacterInstance& c) { c.hostVerticesGiven = false; });
+    fs.totalMs = msSince(frameStart);
+    for (const Status& s : bodyStatus)
+        if (!s) return s;
+    return Status::ok();
+}
+
+Result<RenderMeshView> WorldImpl::renderMesh(GarmentId id) const {
+    const GarmentInstance* g = mGarments.get(id);
+    if (!g) return staleHandle("garment");
+    return g->renderView();
+}
+
+Result<GarmentStats> WorldImpl::garmentStats(GarmentId id) const {
+    const GarmentInstance* g = mGarments.get(id);
+    if (!g) return staleHandle("garment");
+    return g->stats;
+}
+
+uint64_t WorldImpl::stateHash() const {
+    uint64_t h = hashBytes(nullptr, 0);
+    mGarments.forEach([&](auto handle, const GarmentInstance& g) {
+        const uint64_t parts[3] = {handle.index1, uint64_t(g.level()), g.hash()};
+        h = hashBytes(parts, sizeof(parts), h);
+    });
+    return h;
+}
+
+} // namespace detail
+} // namespace cc

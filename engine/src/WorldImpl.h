@@ -1,0 +1,77 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "CharacterInstance.h"
+#include "CookedAsset.h"
+#include "GarmentInstance.h"
+#include "HandlePool.h"
+#include "crowdcloth/World.h"
+#include "crowdcloth/lod/CostModel.h"
+#include "crowdcloth/lod/CrowdScheduler.h"
+
+namespace cc::detail {
+
+/// The World behind the public handle (public classes hold no data, STYLE.md §2).
+class WorldImpl final : public World {
+public:
+    explicit WorldImpl(const WorldDesc& desc);
+
+    Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
+    Result<BodyId> addBody(BodyAsset body);
+    Result<CharacterId> addCharacter(const CharacterDesc& desc);
+    Status removeCharacter(CharacterId id);
+    Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
+    Status setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t count, uint32_t stride);
+    Result<GarmentId> addGarment(AssetId asset, CharacterId character, const GarmentDesc& desc);
+    Status removeGarment(GarmentId id);
+    Status setCameras(const CameraDesc* cameras, uint32_t count);
+    Status setFrameBudget(double milliseconds);
+    Status step(double dt);
+    Result<RenderMeshView> renderMesh(GarmentId id) const;
+    Result<GarmentStats> garmentStats(GarmentId id) const;
+    const FrameStats& frameStats() const { return mFrameStats; }
+    std::string statsJson() const;
+    uint64_t stateHash() const;
+
+private:
+    struct AssetRecord {
+        std::shared_ptr<const CookedAsset> asset;
+    };
+    struct BodyRecord {
+        std::shared_ptr<const BodyAsset> body;
+    };
+    /// One garment's slot in this frame's work lists.
+    struct FrameItem {
+        GarmentId id;
+        GarmentInstance* garment;
+        CharacterInstance* character;
+    };
+
+    int threadCount() const;
+    Status scheduleFrame(double dt);
+    void updateGarment(const FrameItem& item, double dt);
+    const lod::GarmentProfile& profileOf(uint32_t assetIndex);
+
+    WorldDesc mDesc;
+    lod::CostModel mCostModel;
+    HandlePool<AssetRecord> mAssets;
+    HandlePool<BodyRecord> mBodies;
+    HandlePool<CharacterInstance> mCharacters;
+    HandlePool<GarmentInstance> mGarments;
+    std::vector<lod::SchedulerCamera> mCameras;
+    FrameStats mFrameStats;
+    double mTime = 0.0;
+
+    // Per-frame scratch, kept to avoid allocating in the frame loop.
+    std::vector<FrameItem> mItems;
+    std::vector<lod::GarmentProfile> mProfiles;
+    std::vector<uint32_t> mProfileOfAsset;  ///< asset index1 -> profile slot this frame
+    std::vector<lod::GarmentRequest> mRequests;
+    std::vector<lod::GarmentSchedule> mSchedules;
+    std::vector<std::size_t> mDue;           ///< items updated this frame
+    std::vector<CharacterInstance*> mPosed;  ///< characters whose bodies this frame needs
+};
+
+} // namespace cc::detail
