@@ -37,7 +37,7 @@ struct BoundVertex {
 /// stays exactly on the skinned surface), plus the bind offset carried by the linear part of the
 /// point's blended skin matrix. Skinning the vertex itself with the interpolated weights would not
 /// stay on the skinned surface: linear blend skinning is not linear in the weights and positions
-/// together, and on the mannequin's elbows and knees the gap reaches several millimetres.
+/// together: over the mannequin's walk that gap reached 3.6 mm (SkinBindingTest).
 ///
 /// The closest point search at bind time uses a uniform grid of triangle bounding boxes, searched
 /// in growing shells until no unsearched cell can hold a closer triangle (exact; deterministic).
