@@ -1,0 +1,179 @@
+// crowdcloth lod benchmark: a square sheet drops onto a sphere and drapes, simulated by the same
+// solver (implicit PCG, continuum model) on the uniform finest 4-8 level, on coarser uniform levels
+// and on an adaptive mesh that refines on curvature. Reports vertices simulated, milliseconds per
+// step (solver alone, and adaptation: criteria, split/merge, ClothMesh export and solver rebuild),
+// and the render-mesh error against the uniform finest (RMS and max distance between vertices with
+// the same pattern coordinates), at sampled frames and at the end.
+//
+// Usage: cc_lod_bench [finestLevel=6] [seconds=2] [maxDihedral=0.1]
+// The sphere collides through ConstraintSet::setContactPlane (an analytic sphere; collision/ is not
+// used). A cape on a walking mannequin belongs to the engine integration, not to this benchmark.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "crowdcloth/cloth/ClothSimulation.h"
+#include "crowdcloth/lod/GarmentHierarchy.h"
+
+using namespace cc;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr double kDt = 1.0 / 60.0;
+const Vec3 kSphereCentre(0.0, 0.6, 0.0);
+constexpr double kSphereRadius = 0.45;
+constexpr int kAdaptEvery = 5;           // [steps] adapt at 12 Hz: each change rebuilds the solver
+constexpr double kContactMargin = 0.01;  // [m] planes for vertices this close to the sphere
+
+lod::GarmentHierarchy makeSheet(uint32_t finest) {
+    // 1.6 m square, 8 x 8 base squares of 0.2 m, lying flat at y = 1.2 m above the sphere's top (1.05 m).
+    lod::GarmentPattern pattern = lod::GarmentPattern::cape(1.6, 1.6, 0.2).value();
+    pattern.panels[0].origin = Vec3(-0.8, 1.2, -0.8);
+    pattern.panels[0].vAxis = Vec3::UnitZ();
+    lod::HierarchySettings settings;
+    settings.maxLevel = finest;
+    settings.renderLevel = finest;
+    auto h = lod::GarmentHierarchy::create(pattern, settings);
+    if (!h.isOk()) {
+        std::fprintf(stderr, "%s\n", h.status().message().c_str());
+        std::exit(1);
+    }
+    return std::move(h.value());
+}
+
+struct Run {
+    std::string label;
+    double stepMs = 0.0, adaptMs = 0.0;  // totals
+    double vertexSum = 0.0, substeps = 0.0, iterations = 0.0;
+    uint32_t maxVertices = 0, steps = 0, rebuilds = 0;
+    std::vector<std::vector<Vec3>> samples;  // render positions at sampled frames
+};
+
+/// Simulates `seconds`; adapts every `adaptEvery` steps when criteria are given.
+Run simulate(const std::string& label, uint32_t finest, uint32_t level, const lod::RefinementSettings* criteria,
+             double seconds, int sampleEvery) {
+    lod::GarmentHierarchy h = makeSheet(finest);
+    if (!h.setUniformLevel(level)) std::exit(1);
+    cloth::ClothMaterial material;
+    material.damping = 0.01;
+    cloth::SimulationSettings settings;
+    lod::ActiveMesh active;
+    std::unique_ptr<cloth::ClothSimulation> sim;
+    auto rebuild = [&] {
+        active = h.activeMesh();
+        auto created = cloth::ClothSimulation::create(active.mesh, material, settings);
+        if (!created.isOk()) {
+            std::fprintf(stderr, "%s: %s\n", label.c_str(), created.status().message().c_str());
+            std::exit(1);
+        }
+        sim = std::move(created.value());
+        sim->state().velocities = active.velocities;
+    };
+    rebuild();
+    Run run;
+    run.label = label;
+    const int steps = int(std::lround(seconds / kDt));
+    std::vector<Vec3> render, normals;
+    for (int step = 1; step <= steps; ++step) {
+        auto t0 = Clock::now();
+        auto& constraints = sim->constraints();
+        constraints.clearContactPlanes();
+        const auto& x = sim->state().positions;
+        for (uint32_t i = 0; i < x.size(); ++i) {
+            const Vec3 d = x[i] - kSphereCentre;
+            const double r = d.norm();
+            if (r < kSphereRadius + kContactMargin && r > 0.0) {
+                (void)constraints.setContactPlane(i, kSphereCentre + d / r * kSphereRadius, d / r);
+            }
+        }
+        if (Status s = sim->step(kDt); !s) {
+            std::fprintf(stderr, "%s step %d: %s\n", label.c_str(), step, s.message().c_str());
+            std::exit(1);
+        }
+        run.stepMs += msSince(t0);
+        run.substeps += sim->lastStats().substeps;
+        run.iterations += sim->lastStats().iterations;
+        run.vertexSum += double(active.simToVertex.size());
+        run.maxVertices = std::max<uint32_t>(run.maxVertices, uint32_t(active.simToVertex.size()));
+        ++run.steps;
+        t0 = Clock::now();
+        if (!h.readState(active, sim->state().positions, sim->state().velocities)) std::exit(1);
+        if (criteria && step % kAdaptEvery == 0) {
+            auto stats = h.adapt(*criteria, {});
+            if (!stats.isOk()) {
+                std::fprintf(stderr, "%s\n", stats.status().message().c_str());
+                std::exit(1);
+            }
+            if (stats.value().changed()) {
+                rebuild();
+                ++run.rebuilds;
+            }
+        }
+        if (criteria) h.advanceMorph();
+        run.adaptMs += msSince(t0);
+        if (step % sampleEvery == 0) {
+            h.renderPositions(render, normals);
+            run.samples.push_back(render);
+        }
+    }
+    return run;
+}
+
+std::pair<double, double> distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double sum = 0.0, worst = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const double d = (a[i] - b[i]).norm();
+        sum += d * d;
+        worst = std::max(worst, d);
+    }
+    return {std::sqrt(sum / double(a.size())), worst};
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const uint32_t finest = argc > 1 ? uint32_t(std::atoi(argv[1])) : 6;
+    const double seconds = argc > 2 ? std::atof(argv[2]) : 2.0;
+    const double dihedral = argc > 3 ? std::atof(argv[3]) : 0.1;
+    const int sampleEvery = 15;
+    std::printf("sheet 1.6 m, 8x8 base squares, over a sphere r = %.2f m; dt = 1/60 s, %.1f s; finest level %u\n",
+                kSphereRadius, seconds, finest);
+
+    std::vector<Run> runs;
+    runs.push_back(simulate("uniform L" + std::to_string(finest), finest, finest, nullptr, seconds, sampleEvery));
+    for (uint32_t level = finest >= 4 ? finest - 4 : 0; level < finest; level += 2) {
+        runs.push_back(simulate("uniform L" + std::to_string(level), finest, level, nullptr, seconds, sampleEvery));
+    }
+    lod::RefinementSettings criteria;
+    criteria.maxDihedralAngle = dihedral;
+    criteria.quietFrames = 15;
+    criteria.minLevel = finest >= 4 ? finest - 4 : 0;
+    runs.push_back(simulate("adaptive", finest, criteria.minLevel, &criteria, seconds, sampleEvery));
+
+    const Run& reference = runs.front();
+    std::printf("\n%-12s %9s %9s %10s %10s %10s %10s %10s %10s %8s\n", "mesh", "verts avg", "verts max",
+                "step ms", "adapt ms", "total ms", "speedup", "rms end m", "max end m", "rms all");
+    for (const Run& r : runs) {
+        const double step = r.stepMs / r.steps, adapt = r.adaptMs / r.steps;
+        const double refTotal = (reference.stepMs + reference.adaptMs) / reference.steps;
+        const auto [rmsEnd, maxEnd] = distance(r.samples.back(), reference.samples.back());
+        double rmsAll = 0.0;
+        for (std::size_t k = 0; k < r.samples.size(); ++k) rmsAll += distance(r.samples[k], reference.samples[k]).first;
+        rmsAll /= double(r.samples.size());
+        std::printf("%-12s %9.0f %9u %10.2f %10.3f %10.2f %9.1fx %10.4f %10.4f %8.4f\n", r.label.c_str(),
+                    r.vertexSum / r.steps, r.maxVertices, step, adapt, step + adapt, refTotal / (step + adapt),
+                    rmsEnd, maxEnd, rmsAll);
+        std::printf("%-12s %.1f substeps and %.0f PCG iterations per step", "", r.substeps / r.steps,
+                    r.iterations / r.steps);
+        if (r.rebuilds) std::printf("; solver rebuilt %u times", r.rebuilds);
+        std::printf("\n");
+    }
+    return 0;
+}
