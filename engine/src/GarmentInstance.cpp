@@ -66,7 +66,11 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     auto carried = SkinBinding::bind(character.body->mesh(), bindPositions, wide);
     if (!carried.isOk()) return Status::invalidArgument("addGarment: " + carried.status().message());
     std::vector<Vec3> start(bindPositions.size());
-    if (Status s = boundTargets(carried.value(), character, start); !s) return s;
+    if (character.body->hostSkinned) {
+        hostTargets(carried.value(), character, start); // the latest vertices the host handed in
+    } else if (Status s = boundTargets(carried.value(), character, start); !s) {
+        return s;
+    }
 
     cloth::SimulationSettings settings;
     settings.parallel.maxThreads = 1;

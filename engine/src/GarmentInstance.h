@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "CharacterInstance.h"
@@ -39,6 +40,7 @@ public:
     lod::GarmentSchedule schedule;  ///< this frame's decision
     GarmentStats stats;
     double lastUpdateTime = 0.0;    ///< [s] world time of the last update
+    std::string lastError;          ///< why the last failed update failed
 
     /// Moves the state to another uniform level through the 4-8 hierarchy (mass and momentum
     /// conserved) and/or to another solver; the render mesh fades out the difference so nothing

@@ -104,8 +104,7 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
         c->pose = CharacterPose(body->body->mannequin.character);
         if (Status s = c->updatePose(); !s) return s;
     } else {
-        c->skinnedPositions = body->body->mesh().bindPositions;
-        c->skinnedCurrent = true;
+        c->skinnedPositions = body->body->mesh().bindPositions; // until the host hands in a pose
     }
     const auto h = mCharacters.add(std::move(c));
     return CharacterId{h.index1, h.generation};
@@ -218,7 +217,7 @@ Status WorldImpl::scheduleFrame(double dt) {
             lp.errorMetres = level.errorMetres;
             lp.costMs[int(lod::SolverChoice::ImplicitPcg)] =
                 mCostModel.predictMs(handle.index1, int(l), lod::SolverChoice::ImplicitPcg, n, 1);
-            if (level.explicitSubsteps > 0) {
+            if (mDesc.offerExplicit && level.explicitSubsteps > 0) {
                 lp.explicitSubsteps = level.explicitSubsteps;
                 lp.costMs[int(lod::SolverChoice::ExplicitEuler)] = mCostModel.predictMs(
                     handle.index1, int(l), lod::SolverChoice::ExplicitEuler, n, level.explicitSubsteps);
@@ -237,16 +236,18 @@ Status WorldImpl::scheduleFrame(double dt) {
         r.profile = mProfileOfAsset[item.garment->assetIndex()];
         r.center = item.character->toWorld(item.garment->localCentre());
         r.radius = item.garment->asset().radius;
-        r.speed = item.character->speed;
+        // The lag of an extrapolated frame grows with the body's speed and the cloth's own swing.
+        r.speed = item.character->speed + std::sqrt(2.0 * item.garment->specificKineticEnergy());
         r.importance = item.garment->importance();
         r.atRest = item.character->speed < 1e-3 && item.garment->specificKineticEnergy() < kRestEnergy;
         r.previous = item.garment->schedule;
     }
     lod::SchedulerSettings settings;
-    settings.budgetMs = mDesc.frameBudgetMs * threadCount();
+    settings.budgetMs = mDesc.frameBudgetMs * (mDesc.budgetThreads > 0 ? mDesc.budgetThreads : threadCount());
     settings.pixelTolerance = mDesc.pixelTolerance;
     settings.frameDt = dt;
     settings.maxUpdateInterval = int(mDesc.maxUpdateInterval);
+    settings.refineWithSlack = mDesc.spendSlack;
     if (Status s = lod::scheduleGarments(settings, mCameras, mProfiles, mRequests, mSchedules); !s) return s;
     mFrameStats.budgetCpuMs = settings.budgetMs;
     for (std::size_t i = 0; i < mItems.size(); ++i) mItems[i].garment->schedule = mSchedules[i];
@@ -272,9 +273,16 @@ void WorldImpl::updateGarment(const FrameItem& item, double dt) {
         // The character's frame turns only about Y, so world gravity is the same in it.
         ctx.gravity = settings.gravity;
         status = g.update(*item.character, ctx);
+        if (!status && settings.integrator != cloth::IntegratorKind::ImplicitPcg) {
+            // The cheap solver gave up (explicit stability, a failed factorisation): this update
+            // falls back to the implicit PCG, which is stable at any step.
+            settings.integrator = cloth::IntegratorKind::ImplicitPcg;
+            if (auto again = g.configure(schedule.level, settings); again.isOk()) status = g.update(*item.character, ctx);
+        }
     }
     g.lastUpdateTime = mTime;
     stats.failed = !status.isOk();
+    if (stats.failed) g.lastError = status.message();
     stats.measuredMs = msSince(start);
     if (configured.isOk() && configured.value()) stats.levelSwitched = true;
 }
@@ -285,8 +293,16 @@ Status WorldImpl::step(double dt) {
     FrameStats& fs = mFrameStats;
     fs = FrameStats{fs.frame + 1};
     fs.threads = uint32_t(threadCount());
-    mTime += dt;
 
+    Status missing;
+    mCharacters.forEach([&](auto, const CharacterInstance& c) {
+        if (missing && c.body->hostSkinned && !c.hostVerticesGiven && !c.garments.empty())
+            missing = Status::error(StatusCode::InvalidOperation,
+                                    "step: a host-skinned character has garments but no setCharacterSkinnedVertices() "
+                                    "this frame");
+    });
+    if (!missing) return missing;
+    mTime += dt;
     mCharacters.forEach([&](auto, CharacterInstance& c) {
         c.clipTime += dt * c.playbackRate;
         c.speed = (c.position - c.previousPosition).norm() / dt;
@@ -367,7 +383,9 @@ Status WorldImpl::step(double dt) {
         fs.levelSwitches += s.levelSwitched;
         if (s.level >= 0 && s.level < 16) ++fs.garmentsPerLevel[s.level];
     }
-    mCharacters.forEach([&](auto, CharacterInstance& c) { c.hostVerticesGiven = false; });
+    mCharacters.forEach([&](auto, CharacterInstance& c) {
+        if (c.body->hostSkinned) c.hostVerticesGiven = c.skinnedCurrent = false; // needed again next frame
+    });
     fs.totalMs = msSince(frameStart);
     for (const Status& s : bodyStatus)
         if (!s) return s;

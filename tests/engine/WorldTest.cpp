@@ -1,4 +1,5 @@
 #include <cmath>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -13,38 +14,177 @@ struct WorldDeleter {
 };
 using WorldPtr = std::unique_ptr<World, WorldDeleter>;
 
-WorldPtr makeWorld(WorldDesc desc = {}) { return WorldPtr(World::create(desc).value()); }
+WorldPtr makeWorld(WorldDesc desc = {}) {
+    desc.fixedCostModel = true;
+    return WorldPtr(World::create(desc).value());
+}
+
+void followWithCamera(World& world, const Vec3& target, const Vec3& offset) {
+    const CameraDesc camera = test::cameraLookingAt(target + offset, target);
+    ASSERT_TRUE(world.setCameras(&camera, 1).isOk());
+}
 
 TEST(World, CapeFollowsAWalkingMannequin) {
-    WorldDesc desc;
-    desc.fixedCostModel = true;
-    WorldPtr world = makeWorld(desc);
+    WorldPtr world = makeWorld();
     const AssetId cape = world->addClothAsset({}).value();
     const auto crowd = test::addWalkingCrowd(*world, cape, 1);
     const double dt = 1.0 / 60.0;
     for (int frame = 1; frame <= 120; ++frame) {
         test::walkCrowd(*world, crowd, frame * dt);
-        const Vec3 c = crowd.starts[0] + Vec3(0, 1.2, crowd.speed * frame * dt);
-        const CameraDesc camera = test::cameraLookingAt(c + Vec3(-1.5, 0.3, -3.0), c);
-        ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
+        const Vec3 root = crowd.starts[0] + Vec3(0, 0, crowd.speed * frame * dt);
+        followWithCamera(*world, root + Vec3(0, 1.2, 0), Vec3(-1.5, 0.3, -3.0));
         const Status s = world->step(dt);
         ASSERT_TRUE(s.isOk()) << s.message();
         const GarmentStats stats = world->garmentStats(crowd.garments[0]).value();
         ASSERT_FALSE(stats.failed) << "frame " << frame;
+        ASSERT_TRUE(stats.updated) << "a close garment updates every frame";
+        const RenderMeshView mesh = world->renderMesh(crowd.garments[0]).value();
+        for (uint32_t v = 0; v < mesh.vertexCount; ++v) {
+            const Vec3 p(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+            ASSERT_TRUE(isFinite(p));
+            // The cape hangs from the shoulders behind the back: it travels with its wearer.
+            ASSERT_LT((p - (root + Vec3(0, 1.0, 0))).norm(), 1.2) << "vertex " << v << " frame " << frame;
+        }
     }
     const GarmentStats stats = world->garmentStats(crowd.garments[0]).value();
-    std::printf("%s\n", world->statsJson().c_str());
-    EXPECT_GT(stats.level, 0);
-    const RenderMeshView mesh = world->renderMesh(crowd.garments[0]).value();
-    ASSERT_GT(mesh.vertexCount, 0u);
-    double minY = 1e9, maxY = -1e9, minZ = 1e9;
-    for (uint32_t v = 0; v < mesh.vertexCount; ++v) {
-        for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(mesh.positions[3 * v + k]));
-        minY = std::min<double>(minY, mesh.positions[3 * v + 1]);
-        maxY = std::max<double>(maxY, mesh.positions[3 * v + 1]);
-        minZ = std::min<double>(minZ, mesh.positions[3 * v + 2]);
+    EXPECT_EQ(stats.level, 4) << "a close cape is simulated at its finest level";
+    EXPECT_LT(stats.maxStrain, 0.05);
+}
+
+TEST(World, RenderTopologyNeverChanges) {
+    WorldDesc desc;
+    desc.spendSlack = false; // levels follow the pixel tolerance alone
+    WorldPtr world = makeWorld(desc);
+    const AssetId cape = world->addClothAsset({}).value();
+    const auto crowd = test::addWalkingCrowd(*world, cape, 1);
+    const RenderMeshView first = world->renderMesh(crowd.garments[0]).value();
+    const std::vector<uint32_t> indices(first.indices, first.indices + 3 * first.triangleCount);
+    int levelsSeen = 0, lastLevel = -1;
+    for (int frame = 1; frame <= 90; ++frame) {
+        // The camera backs away from 1 m to 60 m: the garment walks down through its levels.
+        followWithCamera(*world, crowd.starts[0] + Vec3(0, 1.2, 0), Vec3(0, 0, -1.0 - frame * 0.66));
+        ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+        const RenderMeshView mesh = world->renderMesh(crowd.garments[0]).value();
+        ASSERT_EQ(mesh.vertexCount, first.vertexCount);
+        ASSERT_EQ(std::vector<uint32_t>(mesh.indices, mesh.indices + 3 * mesh.triangleCount), indices);
+        const int level = world->garmentStats(crowd.garments[0]).value().level;
+        levelsSeen += level != lastLevel;
+        lastLevel = level;
     }
-    std::printf("cape y [%g, %g], min z %g, character z %g\n", minY, maxY, minZ, crowd.starts[0].z() + 2.0 * crowd.speed);
+    EXPECT_GE(levelsSeen, 3);
+}
+
+TEST(World, UnseenGarmentsAtRestFallAsleep) {
+    WorldPtr world = makeWorld();
+    const AssetId cape = world->addClothAsset({}).value();
+    const BodyId body = world->addMannequinBody({}).value();
+    CharacterDesc c;
+    c.body = body;
+    c.clip = ""; // standing still in the rest pose
+    const CharacterId still = world->addCharacter(c).value();
+    const GarmentId g = world->addGarment(cape, still, {}).value();
+    // The camera looks away from the character.
+    followWithCamera(*world, Vec3(0, 1, 50), Vec3(0, 0, -5));
+    bool slept = false;
+    for (int frame = 0; frame < 600 && !slept; ++frame) {
+        ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+        slept = world->garmentStats(g).value().updateInterval == 0;
+    }
+    EXPECT_TRUE(slept);
+    const uint64_t hash = world->stateHash();
+    for (int frame = 0; frame < 30; ++frame) ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+    EXPECT_EQ(world->stateHash(), hash) << "a sleeping garment does not move";
+    EXPECT_EQ(world->frameStats().asleep, 1u);
+}
+
+TEST(World, StateHashIsTheSameForAnyThreadCount) {
+    constexpr int kCharacters = 20, kFrames = 300;
+    std::vector<std::vector<uint64_t>> hashes;
+    for (uint32_t threads : {1u, 2u, 3u, 4u}) {
+        WorldDesc desc;
+        desc.maxThreads = threads;
+        desc.budgetThreads = 2;
+        desc.frameBudgetMs = 2.0; // tight: the budget pass degrades and refines every frame
+        WorldPtr world = makeWorld(desc);
+        ClothAssetDesc capeDesc;
+        capeDesc.levelCount = 4;
+        const AssetId cape = world->addClothAsset(capeDesc).value();
+        const auto crowd = test::addWalkingCrowd(*world, cape, kCharacters);
+        std::vector<uint64_t> perFrame;
+        for (int frame = 1; frame <= kFrames; ++frame) {
+            const double t = frame / 60.0;
+            test::walkCrowd(*world, crowd, t);
+            // A camera 12-25 m away: the crowd spreads over the coarse and middle levels.
+            followWithCamera(*world, Vec3(6.0, 1.0, -1.0 + crowd.speed * t), Vec3(-4.0, 3.0, -24.0 + 0.04 * frame));
+            ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+            perFrame.push_back(world->stateHash());
+        }
+        EXPECT_EQ(world->frameStats().failed, 0u);
+        hashes.push_back(perFrame);
+    }
+    for (std::size_t t = 1; t < hashes.size(); ++t)
+        for (int frame = 0; frame < kFrames; ++frame)
+            ASSERT_EQ(hashes[t][frame], hashes[0][frame]) << (t + 1) << " threads, frame " << frame;
+}
+
+TEST(World, RejectsBadCallsNamingThem) {
+    WorldPtr world = makeWorld();
+    EXPECT_EQ(World::create([] { WorldDesc d; d.frameBudgetMs = -1; return d; }()).status().code(),
+              StatusCode::InvalidArgument);
+    const AssetId cape = world->addClothAsset({}).value();
+    ClothAssetDesc bad;
+    bad.width = std::nan("");
+    EXPECT_NE(world->addClothAsset(bad).status().message().find("width"), std::string::npos);
+    const BodyId body = world->addMannequinBody({}).value();
+    CharacterDesc c;
+    c.body = body;
+    c.clip = "moonwalk";
+    EXPECT_NE(world->addCharacter(c).status().message().find("moonwalk"), std::string::npos);
+    c.clip = "walk";
+    const CharacterId walker = world->addCharacter(c).value();
+    const double nanPosition[3] = {0.0, std::nan(""), 0.0};
+    EXPECT_FALSE(world->setCharacterRoot(walker, nanPosition, 0.0).isOk());
+    EXPECT_EQ(world->setCharacterSkinnedVertices(walker, nullptr, 0, 0).code(), StatusCode::InvalidOperation);
+    EXPECT_FALSE(world->step(0.0).isOk());
+    EXPECT_FALSE(world->step(std::nan("")).isOk());
+    EXPECT_FALSE(world->setFrameBudget(0.0).isOk());
+
+    const GarmentId g = world->addGarment(cape, walker, {}).value();
+    ASSERT_TRUE(world->removeCharacter(walker).isOk());
+    EXPECT_NE(world->renderMesh(g).status().message().find("stale"), std::string::npos) << "garments leave with their wearer";
+    EXPECT_FALSE(world->addGarment(cape, walker, {}).isOk());
+    EXPECT_FALSE(world->removeCharacter(walker).isOk());
+    EXPECT_FALSE(world->addGarment(AssetId{99, 1}, CharacterId{}, {}).isOk());
+    EXPECT_TRUE(world->step(1.0 / 60.0).isOk()) << "an empty world steps";
+}
+
+TEST(World, HostSkinnedBodiesTakeTheirVerticesEachFrame) {
+    WorldPtr world = makeWorld();
+    // A box-shaped "torso" the host animates itself: 8 vertices, 12 triangles.
+    const float box[8][3] = {{-0.2f, 0.9f, -0.12f}, {0.2f, 0.9f, -0.12f}, {0.2f, 1.5f, -0.12f}, {-0.2f, 1.5f, -0.12f},
+                             {-0.2f, 0.9f, 0.12f},  {0.2f, 0.9f, 0.12f},  {0.2f, 1.5f, 0.12f},  {-0.2f, 1.5f, 0.12f}};
+    const uint32_t tris[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                  {3, 6, 2}, {3, 7, 6}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    const BodyId body = world->addSkinnedBody(&box[0][0], 8, 0, &tris[0][0], 12).value();
+    CharacterDesc c;
+    c.body = body;
+    const CharacterId id = world->addCharacter(c).value();
+    ClothAssetDesc capeDesc;
+    capeDesc.width = 0.4;
+    capeDesc.length = 0.6;
+    const GarmentId g = world->addGarment(world->addClothAsset(capeDesc).value(), id, {}).value();
+    followWithCamera(*world, Vec3(0, 1.2, 0), Vec3(0, 0, -3));
+    EXPECT_EQ(world->step(1.0 / 60.0).code(), StatusCode::InvalidOperation) << "vertices were not handed in";
+    float moved[8][3];
+    for (int frame = 1; frame <= 30; ++frame) {
+        for (int v = 0; v < 8; ++v) moved[v][0] = box[v][0] + 0.01f * frame, moved[v][1] = box[v][1], moved[v][2] = box[v][2];
+        ASSERT_TRUE(world->setCharacterSkinnedVertices(id, &moved[0][0], 8, 0).isOk());
+        ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+    }
+    EXPECT_FALSE(world->garmentStats(g).value().failed);
+    moved[3][1] = std::nanf("");
+    EXPECT_NE(world->setCharacterSkinnedVertices(id, &moved[0][0], 8, 0).message().find("vertex 3"), std::string::npos);
+    EXPECT_FALSE(world->setCharacterSkinnedVertices(id, &moved[0][0], 7, 0).isOk());
 }
 
 } // namespace

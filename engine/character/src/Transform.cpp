@@ -30,6 +30,14 @@ Transform interpolate(const Transform& a, const Transform& b, double t) {
     return r;
 }
 
+Mat4 affineInverse(const Mat4& m) {
+    Mat4 r = Mat4::Identity();
+    const Mat3 a = m.topLeftCorner<3, 3>().inverse();
+    r.topLeftCorner<3, 3>() = a;
+    r.topRightCorner<3, 1>() = -a * m.topRightCorner<3, 1>();
+    return r;
+}
+
 bool isFinite(const Mat4& m) {
     return m.allFinite();
 }

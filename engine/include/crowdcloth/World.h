@@ -17,12 +17,22 @@ using GarmentId = cc_garment_id;
 struct WorldDesc {
     uint32_t maxThreads = 0;          ///< [-] threads that step garments; 0 = all OpenMP offers
     double frameBudgetMs = 12.0;      ///< [ms] wall time per frame the cloth may use; > 0
+    uint32_t budgetThreads = 0;       ///< [-] threads the budget is spread over (CPU budget =
+                                      ///< frameBudgetMs x this); 0 = the threads stepping garments.
+                                      ///< Fix it (with fixedCostModel) for results that do not
+                                      ///< depend on the thread count
     double pixelTolerance = 1.0;      ///< [px] error a visible garment may show; > 0
     bool fixedCostModel = false;      ///< deterministic cost predictions (tests, replays) instead
                                       ///< of learning them from measured times; with learned costs
                                       ///< the chosen levels follow this machine's timing
     double gravity[3] = {0.0, -9.81, 0.0}; ///< [m/s^2] finite
     uint32_t maxUpdateInterval = 8;   ///< [frames] slowest update of a far garment, power of two
+    bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
+                                      ///< the garments that gain most (false: stop at the tolerance)
+    bool offerExplicit = false;       ///< let the scheduler pick symplectic Euler where its predicted
+                                      ///< cost is lowest (coarse levels); off by default: driven by
+                                      ///< attachments it diverged where the at-rest substep estimate
+                                      ///< held (each failure then falls back to the implicit step)
     Status validate() const;
 };
 
@@ -133,8 +143,9 @@ struct FrameStats {
 
 /// The crowd: characters, the garments they wear, cameras and the frame budget.
 ///
-/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP; the
-/// result does not depend on the thread count (with the fixed cost model, bit for bit).
+/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP. With
+/// the fixed cost model and budgetThreads set, the result is bit for bit the same for any thread
+/// count; with learned costs the levels follow the measured times, as a budget must.
 ///
 ///   cc::World* world = cc::World::create({}).value();
 ///   cc::AssetId cape = world->addClothAsset({}).value();

@@ -24,6 +24,9 @@ Quat slerpShortest(const Quat& a, const Quat& b, double t);
 /// Componentwise blend: linear for translation and scale, slerp for rotation.
 Transform interpolate(const Transform& a, const Transform& b, double t);
 
+/// Inverse of an affine matrix (bottom row 0 0 0 1), keeping that bottom row exact.
+Mat4 affineInverse(const Mat4& m);
+
 /// True when every entry of m is finite.
 bool isFinite(const Mat4& m);
 

@@ -1,0 +1,160 @@
+/* crowdcloth C API: a one-to-one wrapper of crowdcloth/World.h for engines written in C or other
+ * languages. Opaque handles, status codes, defaults from *_desc_init(), out-parameters last.
+ *
+ *   cc_world_desc wd; cc_world_desc_init(&wd);
+ *   cc_world* world; if (cc_world_create(&wd, &world) != CC_OK) return 1;
+ *   ... add an asset, a body, a character, a garment; cc_world_step(world, 1.0 / 60.0); ...
+ *   cc_world_destroy(world);
+ *
+ * Every function is safe to call with bad arguments: it returns a status and never crashes. The
+ * message of the last failure is cc_world_last_error(world). Not thread-safe: one thread per world.
+ * Pointers returned by the world stay valid until the next cc_world_step() or removal. */
+#pragma once
+
+#include <stdint.h>
+
+#include "crowdcloth/Ids.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum cc_status {
+    CC_OK = 0,
+    CC_INVALID_ARGUMENT = 1,   /* a parameter is out of its documented range, or a handle is stale */
+    CC_INVALID_OPERATION = 2,  /* not allowed in the current state (e.g. call order) */
+    CC_NOT_CONVERGED = 3,
+    CC_NUMERICAL_FAILURE = 4,
+    CC_OUT_OF_MEMORY = 5,
+} cc_status;
+
+/* Stamped into every *_desc by its init function; create/add calls reject unstamped structs. */
+#define CC_DESC_VERSION 0x43430001u
+
+typedef struct cc_world cc_world;
+
+typedef struct cc_world_desc {
+    uint32_t version;
+    uint32_t max_threads;          /* 0 = all OpenMP offers */
+    double frame_budget_ms;        /* [ms] wall time per frame for cloth; > 0 */
+    double pixel_tolerance;        /* [px] > 0 */
+    int32_t fixed_cost_model;      /* 1 = deterministic cost predictions (tests, replays) */
+    double gravity[3];             /* [m/s^2] */
+    uint32_t max_update_interval;  /* [frames] power of two in [1, 64] */
+} cc_world_desc;
+
+typedef enum cc_garment_kind { CC_GARMENT_CAPE = 0, CC_GARMENT_SKIRT = 1, CC_GARMENT_DRESS = 2, CC_GARMENT_PONCHO = 3 } cc_garment_kind;
+
+typedef struct cc_cloth_asset_desc {
+    uint32_t version;
+    cc_garment_kind kind;
+    double width, length, cell_size;   /* [m] */
+    uint32_t level_count, render_level;
+    double areal_density;              /* [kg/m^2] */
+    double stretch_stiffness;          /* [N/m] */
+    double shear_stiffness;            /* [N/m] */
+    double bend_stiffness;             /* [N m] */
+    double damping;                    /* [s] */
+    double thickness;                  /* [m] */
+    double friction;                   /* [-] */
+    double fold_radius;                /* [m] */
+} cc_cloth_asset_desc;
+
+typedef struct cc_mannequin_desc {
+    uint32_t version;
+    double height, shoulder_width, hip_width, waist_width; /* [m] */
+    double limb_girth;                                      /* [-] */
+} cc_mannequin_desc;
+
+typedef struct cc_character_desc {
+    uint32_t version;
+    cc_body_id body;
+    const char* clip;        /* "idle", "walk", "run"; NULL or "" = rest pose */
+    double clip_time;        /* [s] */
+    double playback_rate;    /* [-] */
+    double position[3];      /* [m] */
+    double yaw;              /* [rad] */
+} cc_character_desc;
+
+typedef struct cc_garment_desc {
+    uint32_t version;
+    double importance;       /* [-] > 0 */
+} cc_garment_desc;
+
+typedef struct cc_camera_desc {
+    uint32_t version;
+    double view_projection[16];  /* column-major, OpenGL clip convention */
+    double viewport_width, viewport_height; /* [px] */
+} cc_camera_desc;
+
+typedef struct cc_render_mesh {
+    const float* positions;  /* xyz per vertex [m] */
+    const float* normals;    /* unit xyz per vertex */
+    uint32_t vertex_count;
+    const uint32_t* indices; /* 3 per triangle */
+    uint32_t triangle_count;
+} cc_render_mesh;
+
+typedef struct cc_garment_stats {
+    int32_t level;
+    uint32_t vertex_count;
+    uint32_t solver;          /* 0 explicit, 1 implicit PCG, 2 implicit CHOLMOD */
+    uint32_t substeps;
+    uint32_t update_interval; /* 0 = asleep */
+    int32_t updated, level_switched;
+    uint32_t collision;       /* 0 none, 1 proxies, 2 mesh, 3 mesh + continuous */
+    int32_t self_collision;
+    uint32_t contacts, fail_safes;
+    int32_t failed;
+    double screen_radius_px, predicted_error_px, predicted_ms, measured_ms, collision_ms, max_strain;
+} cc_garment_stats;
+
+typedef struct cc_frame_stats {
+    uint64_t frame;
+    double bodies_ms, schedule_ms, simulate_ms, publish_ms, total_ms;
+    double predicted_cpu_ms, measured_cpu_ms, budget_cpu_ms;
+    uint32_t garments, updated, asleep, visible, failed, level_switches;
+    uint32_t garments_per_level[16];
+    uint32_t threads;
+} cc_frame_stats;
+
+uint32_t cc_get_version(void);
+
+void cc_world_desc_init(cc_world_desc* desc);
+void cc_cloth_asset_desc_init(cc_cloth_asset_desc* desc);
+void cc_mannequin_desc_init(cc_mannequin_desc* desc);
+void cc_character_desc_init(cc_character_desc* desc);
+void cc_garment_desc_init(cc_garment_desc* desc);
+void cc_camera_desc_init(cc_camera_desc* desc);
+
+cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
+void cc_world_destroy(cc_world* world);
+/* Message of the last call on `world` that failed ("" if none); valid until the next call. */
+const char* cc_world_last_error(const cc_world* world);
+
+cc_status cc_world_add_cloth_asset(cc_world* world, const cc_cloth_asset_desc* desc, cc_asset_id* out_asset);
+cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* desc, cc_body_id* out_body);
+cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
+                                    uint32_t stride_bytes, const uint32_t* triangles, uint32_t triangle_count,
+                                    cc_body_id* out_body);
+cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
+cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
+cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
+cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_character_id character, const float* positions,
+                                                  uint32_t vertex_count, uint32_t stride_bytes);
+cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
+                               const cc_garment_desc* desc, cc_garment_id* out_garment);
+cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
+cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
+cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
+cc_status cc_world_step(cc_world* world, double dt);
+cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
+cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
+cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats* out_stats);
+/* JSON text of the last frame's stats; valid until the next call on the world. */
+cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
+cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
+
+#ifdef __cplusplus
+}
+#endif

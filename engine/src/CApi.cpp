@@ -1,0 +1,357 @@
+#include "crowdcloth/crowdcloth.h"
+
+#include <new>
+#include <string>
+#include <vector>
+
+#include "crowdcloth/Version.h"
+#include "crowdcloth/World.h"
+
+/// The C handle: the C++ world plus the strings the C API hands out.
+struct cc_world {
+    cc::World* world = nullptr;
+    std::string lastError;
+    std::string json;
+};
+
+namespace {
+
+cc_status toC(cc::StatusCode code) {
+    switch (code) {
+    case cc::StatusCode::Ok: return CC_OK;
+    case cc::StatusCode::InvalidArgument: return CC_INVALID_ARGUMENT;
+    case cc::StatusCode::InvalidOperation: return CC_INVALID_OPERATION;
+    case cc::StatusCode::NotConverged: return CC_NOT_CONVERGED;
+    case cc::StatusCode::NumericalFailure: return CC_NUMERICAL_FAILURE;
+    }
+    return CC_INVALID_ARGUMENT;
+}
+
+cc_status report(const cc_world* w, const cc::Status& s) {
+    if (w) const_cast<cc_world*>(w)->lastError = s.isOk() ? std::string() : s.message();
+    return toC(s.code());
+}
+
+cc_status fail(const cc_world* w, cc_status code, const char* message) {
+    if (w) const_cast<cc_world*>(w)->lastError = message;
+    return code;
+}
+
+/// Runs `f` and turns a (theoretical) allocation failure into a status: no exception crosses the C API.
+template <typename F>
+cc_status guarded(const cc_world* w, F&& f) {
+    try {
+        return f();
+    } catch (const std::bad_alloc&) {
+        return fail(w, CC_OUT_OF_MEMORY, "out of memory");
+    } catch (...) {
+        return fail(w, CC_INVALID_OPERATION, "internal error");
+    }
+}
+
+#define CC_CHECK_WORLD(w)                                                                                    \
+    if (!(w) || !(w)->world) return CC_INVALID_ARGUMENT
+#define CC_CHECK_DESC(w, d, name)                                                                            \
+    if (!(d)) return fail(w, CC_INVALID_ARGUMENT, name " is null");                                        \
+    if ((d)->version != CC_DESC_VERSION)                                                                   \
+    return fail(w, CC_INVALID_ARGUMENT, name " was not initialised with its _desc_init()")
+#define CC_CHECK_OUT(w, p, name)                                                                             \
+    if (!(p)) return fail(w, CC_INVALID_ARGUMENT, name " is null")
+
+} // namespace
+
+extern "C" {
+
+uint32_t cc_get_version(void) { return cc::getVersion(); }
+
+void cc_world_desc_init(cc_world_desc* d) {
+    if (!d) return;
+    const cc::WorldDesc defaults;
+    d->version = CC_DESC_VERSION;
+    d->max_threads = defaults.maxThreads;
+    d->frame_budget_ms = defaults.frameBudgetMs;
+    d->pixel_tolerance = defaults.pixelTolerance;
+    d->fixed_cost_model = defaults.fixedCostModel;
+    for (int k = 0; k < 3; ++k) d->gravity[k] = defaults.gravity[k];
+    d->max_update_interval = defaults.maxUpdateInterval;
+}
+
+void cc_cloth_asset_desc_init(cc_cloth_asset_desc* d) {
+    if (!d) return;
+    const cc::ClothAssetDesc x;
+    d->version = CC_DESC_VERSION;
+    d->kind = cc_garment_kind(x.kind);
+    d->width = x.width;
+    d->length = x.length;
+    d->cell_size = x.cellSize;
+    d->level_count = x.levelCount;
+    d->render_level = x.renderLevel;
+    d->areal_density = x.arealDensity;
+    d->stretch_stiffness = x.stretchStiffness;
+    d->shear_stiffness = x.shearStiffness;
+    d->bend_stiffness = x.bendStiffness;
+    d->damping = x.damping;
+    d->thickness = x.thickness;
+    d->friction = x.friction;
+    d->fold_radius = x.foldRadius;
+}
+
+void cc_mannequin_desc_init(cc_mannequin_desc* d) {
+    if (!d) return;
+    const cc::MannequinDesc x;
+    d->version = CC_DESC_VERSION;
+    d->height = x.height;
+    d->shoulder_width = x.shoulderWidth;
+    d->hip_width = x.hipWidth;
+    d->waist_width = x.waistWidth;
+    d->limb_girth = x.limbGirth;
+}
+
+void cc_character_desc_init(cc_character_desc* d) {
+    if (!d) return;
+    const cc::CharacterDesc x;
+    d->version = CC_DESC_VERSION;
+    d->body = x.body;
+    d->clip = x.clip;
+    d->clip_time = x.clipTime;
+    d->playback_rate = x.playbackRate;
+    for (int k = 0; k < 3; ++k) d->position[k] = x.position[k];
+    d->yaw = x.yaw;
+}
+
+void cc_garment_desc_init(cc_garment_desc* d) {
+    if (!d) return;
+    d->version = CC_DESC_VERSION;
+    d->importance = cc::GarmentDesc{}.importance;
+}
+
+void cc_camera_desc_init(cc_camera_desc* d) {
+    if (!d) return;
+    const cc::CameraDesc x;
+    d->version = CC_DESC_VERSION;
+    for (int k = 0; k < 16; ++k) d->view_projection[k] = x.viewProjection[k];
+    d->viewport_width = x.viewportWidth;
+    d->viewport_height = x.viewportHeight;
+}
+
+cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
+    if (!out_world) return CC_INVALID_ARGUMENT;
+    *out_world = nullptr;
+    if (!d || d->version != CC_DESC_VERSION) return CC_INVALID_ARGUMENT;
+    return guarded(nullptr, [&] {
+        cc::WorldDesc desc;
+        desc.maxThreads = d->max_threads;
+        desc.frameBudgetMs = d->frame_budget_ms;
+        desc.pixelTolerance = d->pixel_tolerance;
+        desc.fixedCostModel = d->fixed_cost_model != 0;
+        for (int k = 0; k < 3; ++k) desc.gravity[k] = d->gravity[k];
+        desc.maxUpdateInterval = d->max_update_interval;
+        auto world = cc::World::create(desc);
+        if (!world.isOk()) return toC(world.status().code());
+        *out_world = new cc_world{world.value(), {}, {}};
+        return CC_OK;
+    });
+}
+
+void cc_world_destroy(cc_world* w) {
+    if (!w) return;
+    cc::World::destroy(w->world);
+    delete w;
+}
+
+const char* cc_world_last_error(const cc_world* w) { return w ? w->lastError.c_str() : "world is null"; }
+
+cc_status cc_world_add_cloth_asset(cc_world* w, const cc_cloth_asset_desc* d, cc_asset_id* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_DESC(w, d, "cloth asset desc");
+    CC_CHECK_OUT(w, out, "out_asset");
+    return guarded(w, [&] {
+        cc::ClothAssetDesc x;
+        x.kind = cc::GarmentKind(d->kind);
+        x.width = d->width;
+        x.length = d->length;
+        x.cellSize = d->cell_size;
+        x.levelCount = d->level_count;
+        x.renderLevel = d->render_level;
+        x.arealDensity = d->areal_density;
+        x.stretchStiffness = d->stretch_stiffness;
+        x.shearStiffness = d->shear_stiffness;
+        x.bendStiffness = d->bend_stiffness;
+        x.damping = d->damping;
+        x.thickness = d->thickness;
+        x.friction = d->friction;
+        x.foldRadius = d->fold_radius;
+        auto id = w->world->addClothAsset(x);
+        if (id.isOk()) *out = id.value();
+        return report(w, id.status());
+    });
+}
+
+cc_status cc_world_add_mannequin_body(cc_world* w, const cc_mannequin_desc* d, cc_body_id* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_DESC(w, d, "mannequin desc");
+    CC_CHECK_OUT(w, out, "out_body");
+    return guarded(w, [&] {
+        cc::MannequinDesc x;
+        x.height = d->height;
+        x.shoulderWidth = d->shoulder_width;
+        x.hipWidth = d->hip_width;
+        x.waistWidth = d->waist_width;
+        x.limbGirth = d->limb_girth;
+        auto id = w->world->addMannequinBody(x);
+        if (id.isOk()) *out = id.value();
+        return report(w, id.status());
+    });
+}
+
+cc_status cc_world_add_skinned_body(cc_world* w, const float* bind_positions, uint32_t vertex_count,
+                                    uint32_t stride_bytes, const uint32_t* triangles, uint32_t triangle_count,
+                                    cc_body_id* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out, "out_body");
+    return guarded(w, [&] {
+        auto id = w->world->addSkinnedBody(bind_positions, vertex_count, stride_bytes, triangles, triangle_count);
+        if (id.isOk()) *out = id.value();
+        return report(w, id.status());
+    });
+}
+
+cc_status cc_world_add_character(cc_world* w, const cc_character_desc* d, cc_character_id* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_DESC(w, d, "character desc");
+    CC_CHECK_OUT(w, out, "out_character");
+    return guarded(w, [&] {
+        cc::CharacterDesc x;
+        x.body = d->body;
+        x.clip = d->clip;
+        x.clipTime = d->clip_time;
+        x.playbackRate = d->playback_rate;
+        for (int k = 0; k < 3; ++k) x.position[k] = d->position[k];
+        x.yaw = d->yaw;
+        auto id = w->world->addCharacter(x);
+        if (id.isOk()) *out = id.value();
+        return report(w, id.status());
+    });
+}
+
+cc_status cc_world_remove_character(cc_world* w, cc_character_id c) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->removeCharacter(c)); });
+}
+
+cc_status cc_world_set_character_root(cc_world* w, cc_character_id c, const double position[3], double yaw) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->setCharacterRoot(c, position, yaw)); });
+}
+
+cc_status cc_world_set_character_skinned_vertices(cc_world* w, cc_character_id c, const float* positions,
+                                                  uint32_t vertex_count, uint32_t stride_bytes) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] {
+        return report(w, w->world->setCharacterSkinnedVertices(c, positions, vertex_count, stride_bytes));
+    });
+}
+
+cc_status cc_world_add_garment(cc_world* w, cc_asset_id asset, cc_character_id c, const cc_garment_desc* d,
+                               cc_garment_id* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_DESC(w, d, "garment desc");
+    CC_CHECK_OUT(w, out, "out_garment");
+    return guarded(w, [&] {
+        cc::GarmentDesc x;
+        x.importance = d->importance;
+        auto id = w->world->addGarment(asset, c, x);
+        if (id.isOk()) *out = id.value();
+        return report(w, id.status());
+    });
+}
+
+cc_status cc_world_remove_garment(cc_world* w, cc_garment_id g) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->removeGarment(g)); });
+}
+
+cc_status cc_world_set_cameras(cc_world* w, const cc_camera_desc* cameras, uint32_t count) {
+    CC_CHECK_WORLD(w);
+    if (count > 0 && !cameras) return fail(w, CC_INVALID_ARGUMENT, "cameras is null");
+    return guarded(w, [&] {
+        std::vector<cc::CameraDesc> x(count);
+        for (uint32_t c = 0; c < count; ++c) {
+            if (cameras[c].version != CC_DESC_VERSION)
+                return fail(w, CC_INVALID_ARGUMENT, "camera desc was not initialised with cc_camera_desc_init()");
+            for (int k = 0; k < 16; ++k) x[c].viewProjection[k] = cameras[c].view_projection[k];
+            x[c].viewportWidth = cameras[c].viewport_width;
+            x[c].viewportHeight = cameras[c].viewport_height;
+        }
+        return report(w, w->world->setCameras(x.data(), count));
+    });
+}
+
+cc_status cc_world_set_frame_budget(cc_world* w, double milliseconds) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->setFrameBudget(milliseconds)); });
+}
+
+cc_status cc_world_step(cc_world* w, double dt) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->step(dt)); });
+}
+
+cc_status cc_world_get_render_mesh(const cc_world* w, cc_garment_id g, cc_render_mesh* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out, "out_mesh");
+    return guarded(w, [&] {
+        auto view = w->world->renderMesh(g);
+        if (view.isOk()) {
+            const cc::RenderMeshView& v = view.value();
+            *out = cc_render_mesh{v.positions, v.normals, v.vertexCount, v.indices, v.triangleCount};
+        }
+        return report(w, view.status());
+    });
+}
+
+cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garment_stats* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out, "out_stats");
+    return guarded(w, [&] {
+        auto stats = w->world->garmentStats(g);
+        if (stats.isOk()) {
+            const cc::GarmentStats& s = stats.value();
+            *out = cc_garment_stats{s.level, s.vertexCount, uint32_t(s.solver), s.substeps, s.updateInterval,
+                                    s.updated, s.levelSwitched, uint32_t(s.collision), s.selfCollision,
+                                    s.contacts, s.failSafes, s.failed, s.screenRadiusPx, s.predictedErrorPx,
+                                    s.predictedMs, s.measuredMs, s.collisionMs, s.maxStrain};
+        }
+        return report(w, stats.status());
+    });
+}
+
+cc_status cc_world_get_frame_stats(const cc_world* w, cc_frame_stats* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out, "out_stats");
+    const cc::FrameStats& f = w->world->frameStats();
+    *out = cc_frame_stats{f.frame, f.bodiesMs, f.scheduleMs, f.simulateMs, f.publishMs, f.totalMs,
+                          f.predictedCpuMs, f.measuredCpuMs, f.budgetCpuMs, f.garments, f.updated, f.asleep,
+                          f.visible, f.failed, f.levelSwitches, {}, f.threads};
+    for (int l = 0; l < 16; ++l) out->garments_per_level[l] = f.garmentsPerLevel[l];
+    return CC_OK;
+}
+
+cc_status cc_world_get_stats_json(cc_world* w, const char** out_json) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out_json, "out_json");
+    return guarded(w, [&] {
+        w->json = w->world->statsJson();
+        *out_json = w->json.c_str();
+        return CC_OK;
+    });
+}
+
+cc_status cc_world_state_hash(const cc_world* w, uint64_t* out_hash) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out_hash, "out_hash");
+    *out_hash = w->world->stateHash();
+    return CC_OK;
+}
+
+} // extern "C"
