@@ -1,3 +1,5 @@
+#include <cstdio>
+
 #include <gtest/gtest.h>
 
 #include "lod/LodSimulation.h"
@@ -44,6 +46,8 @@ TEST(StateTransfer, SwitchingLevelsDoesNotPop) {
         ASSERT_TRUE(h.setUniformLevel(level));
         h.renderPositions(after, normals);
         const auto [rms, worst] = test::renderDistance(before, after);
+        std::printf("switch to L%u: largest render jump %.2e m, kinetic energy %.4f -> %.4f J\n", level, worst, ke,
+                    kineticEnergy(h));
         EXPECT_LT(worst, 1e-6) << "switch to level " << level;
         EXPECT_LT(std::abs(kineticEnergy(h) - ke), 0.01 * ke) << "switch to level " << level;
         EXPECT_LT((h.totalMomentum() - momentum).norm(), 1e-12 * std::sqrt(2.0 * ke * mass)) << level;
