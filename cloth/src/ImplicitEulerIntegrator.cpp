@@ -65,7 +65,7 @@ double ImplicitEulerIntegrator::createdEnergy(double h, const ClothState& before
         kinetic1 += 0.5 * m * after.velocities[i].squaredNorm();
         gravityWork += m * mCommon.gravity.dot(dx);
         const Vec3 impulse = mScratch[i] - mRhs[i];
-        constraintWork += (impulse - mFilters[i].project(impulse)).dot(dx) / h;
+        constraintWork += (impulse - mFilters[i].project(impulse) + mFrictionImpulse[i]).dot(dx) / h;
     }
     const double elastic1 = mModel.energy(after.positions);
     outScale = elasticBefore + kinetic0 + std::abs(gravityWork) + std::abs(constraintWork);
@@ -84,6 +84,8 @@ Status ImplicitEulerIntegrator::solveOnce(double h, double fraction1, const Cons
     mRhs.resize(n);
     mFixed.resize(n);
     mFilters.resize(n);
+    mScratch.resize(n);
+    mFrictionImpulse.resize(n);
 
     // Elastic forces and definite stiffness K at x0.
     parallelFor(n, par, [&](int64_t b, int64_t e) {
@@ -107,7 +109,8 @@ Status ImplicitEulerIntegrator::solveOnce(double h, double fraction1, const Cons
             mSystem.block(mSystem.diagonalSlot(uint32_t(i))).diagonal().array() += state.masses[i];
             mRhs[i] = h * (mForces[i] + state.masses[i] * mCommon.gravity - damping * mStiffV[i]);
             const Vec3 goal = mStepStart[i] + fraction1 * (constraints.target(uint32_t(i)) - mStepStart[i]);
-            mFilters[i] = constraints.filter(uint32_t(i), x[i], v[i], h, goal, mFixed[i]);
+            mFilters[i] = constraints.filter(uint32_t(i), x[i], v[i], h, goal, mRhs[i] / state.masses[i],
+                                              (1.0 - fraction1) * mOuterDt, mFixed[i]);
         }
     });
 
@@ -122,9 +125,21 @@ Status ImplicitEulerIntegrator::solveOnce(double h, double fraction1, const Cons
         if (Status s = mCholmod.solve(mSystem, mFilters, mRhs, mFixed, mDv); !s) return s;
     }
 
+    // Friction needs each contact's normal impulse: h f_c = A dv - b on the constrained directions.
+    // Its own impulse is kept for the energy check: dragged along by a moving body, cloth gains
+    // kinetic energy that friction's work accounts for.
+    const bool friction = constraints.hasFriction();
+    if (friction) mSystem.multiply(mDv, mScratch, par);
     parallelFor(n, par, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             v[i] += mDv[i];
+            mFrictionImpulse[i].setZero();
+            if (friction && mFilters[i].kind == ConstraintKind::ContactPlane) {
+                const double normalDv = mFilters[i].normal.dot(mScratch[i] - mRhs[i]) / state.masses[i];
+                const Vec3 before = v[i];
+                constraints.applyFriction(uint32_t(i), normalDv, v[i]);
+                mFrictionImpulse[i] = state.masses[i] * (v[i] - before);
+            }
             state.positions[i] += h * v[i];
         }
     });

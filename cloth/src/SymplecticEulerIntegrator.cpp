@@ -68,8 +68,13 @@ Status SymplecticEulerIntegrator::step(double dt, const ConstraintSet& constrain
                     vi = (goal - x[i]) / h;
                 } else if (constraints.kind(i) == ConstraintKind::ContactPlane) {
                     Vec3 z;
-                    const VertexFilter f = constraints.filter(uint32_t(i), x[i], vi, h, x[i], z);
-                    if (f.kind == ConstraintKind::ContactPlane) vi = f.project(vi) + f.normal * (f.normal.dot(vi) + f.normal.dot(z));
+                    const VertexFilter f = constraints.filter(uint32_t(i), x[i], vi, h, x[i], Vec3::Zero(), (1.0 - alpha) * dt, z);
+                    if (f.kind == ConstraintKind::ContactPlane) {
+                        const Vec3 pushed = f.project(vi) + f.normal * (f.normal.dot(vi) + f.normal.dot(z));
+                        const double normalDv = f.normal.dot(pushed - vi);
+                        vi = pushed;
+                        constraints.applyFriction(uint32_t(i), normalDv, vi);
+                    }
                 }
                 v[i] = vi;
                 x[i] += h * vi;

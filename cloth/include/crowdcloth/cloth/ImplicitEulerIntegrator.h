@@ -25,7 +25,8 @@ enum class LinearSolverKind {
 /// in Baraff & Witkin's step-size control, a step that *creates* energy,
 ///   dE_elastic + dE_kinetic + dE_gravity - W_constraints > energyTolerance * scale,
 /// is undone and taken as two half steps (recursively, at most maxHalvings deep), where
-/// W_constraints = (A dv - b) . dx / h is the work of pins and attachments over the step and
+/// W_constraints = (A dv - b) . dx / h is the work of pins, attachments and contacts over the step
+/// (plus that of the friction impulse, applied after the solve; ConstraintSet::applyFriction), and
 /// scale = E_elastic + E_kinetic + |dE_gravity| + |W_constraints| at the step.
 class ImplicitEulerIntegrator final : public Integrator {
 public:
@@ -62,7 +63,7 @@ private:
     IntegratorSettings mCommon;
     Settings mSettings;
     BlockSparseMatrix mSystem;
-    std::vector<Vec3> mForces, mStiffV, mRhs, mFixed, mDv, mStepStart, mScratch;
+    std::vector<Vec3> mForces, mStiffV, mRhs, mFixed, mDv, mStepStart, mScratch, mFrictionImpulse;
     std::vector<ClothState> mSaved;  // per split depth, so the hot path reuses its storage
     std::vector<VertexFilter> mFilters;
     PcgWorkspace mPcg;
