@@ -156,11 +156,13 @@ std::unique_ptr<aiScene> buildScene(const Character& c) {
 
 Status exportCharacter(const Character& character, const std::string& path) {
     const std::string ext = lowerExtension(path);
-    // FBX goes out as ASCII: assimp 5.2.5's binary FBX writer produces files its own reader
-    // rejects ("FBX-Tokenize ... block offset is out of range"), even for CesiumMan.
-    const char* format = ext == "glb" ? "glb2" : ext == "gltf" ? "gltf2" : ext == "fbx" ? "fbxa" : ext == "dae" ? "collada" : nullptr;
+    // Only glTF: assimp 5.2.5's other writers do not round-trip a skinned, animated character
+    // through its own reader (binary FBX: "FBX-Tokenize ... block offset is out of range"; ASCII
+    // FBX: one key per channel, times off; Collada: "Unable to resolve library reference
+    // ...-input" for every animation).
+    const char* format = ext == "glb" ? "glb2" : ext == "gltf" ? "gltf2" : nullptr;
     if (!format) {
-        return Status::invalidArgument(path + ": unsupported export format '." + ext + "' (use .glb, .gltf, .fbx or .dae)");
+        return Status::invalidArgument(path + ": unsupported export format '." + ext + "' (use .glb or .gltf)");
     }
     Status s = character.validate();
     if (!s) return Status::invalidArgument(path + ": cannot export: " + s.message());

@@ -457,31 +457,8 @@ Status Reader::applyAxisAndUnits(const aiScene& scene) {
     if (!std::isfinite(scale) || !(scale > 0.0)) return fail("unit scale must be positive");
     if (scale == 1.0 && axes == Mat3::Identity()) return Status::ok();
 
-    // Conjugate everything by C = scale * R: globals become C G C^-1, so skinned positions become
-    // C * (old skinned positions) while every local transform stays a TRS.
-    const Quat r(axes);
-    const Mat3 absR = axes.cwiseAbs();
-    Mat4 c = Mat4::Identity();
-    c.topLeftCorner<3, 3>() = scale * axes;
-    const Mat4 cInv = affineInverse(c);
-    const auto mapTransform = [&](Transform& t) {
-        t.translation = scale * (axes * t.translation);
-        t.rotation = (r * t.rotation * r.conjugate()).normalized();
-        t.scale = absR * t.scale;
-    };
-    for (Joint& j : mCharacter.skeleton.joints) mapTransform(j.restLocal);
-    for (AnimationClip& clip : mCharacter.clips) {
-        for (JointChannel& ch : clip.channels) {
-            for (Vec3& t : ch.translations) t = scale * (axes * t);
-            for (Quat& q : ch.rotations) q = (r * q * r.conjugate()).normalized();
-            for (Vec3& s : ch.scales) s = absR * s;
-        }
-    }
-    SkinnedMesh& body = mCharacter.body;
-    for (Vec3& p : body.bindPositions) p = scale * (axes * p);
-    for (Vec3& n : body.bindNormals) n = axes * n;
-    for (Mat4& m : body.inverseBindMatrices) m = c * m * cInv;
-    return Status::ok();
+    Status s = changeBasis(mCharacter, scale, axes);
+    return s ? s : fail(s.message());
 }
 
 Result<Character> Reader::read() {

@@ -23,6 +23,13 @@ struct Character {
     int findClip(const std::string& clipName) const;
 };
 
+/// Re-expresses a character in other units and axes: every model-space point p becomes
+/// scale * rotation * p. Joint transforms and clip keys are conjugated (T -> C T C^-1 with
+/// C = scale * rotation), bind positions and inverse bind matrices mapped alike, so every skinned
+/// result is mapped the same way. `rotation` must be orthonormal with determinant +1; joints with
+/// non-uniform scale keep exact results only when it permutes axes (as unit/axis fixes do).
+Status changeBasis(Character& character, double scale, const Mat3& rotation);
+
 /// Per-agent pose buffers: local pose, global joint matrices and skin matrices. Sized once by
 /// the constructor; evaluate() then makes no allocation. Not thread-safe; one per agent/thread.
 ///

@@ -39,9 +39,10 @@ struct ImportSettings {
 /// gives an error whose message starts with the file path and names the problem.
 Result<Character> importCharacter(const std::string& path, const ImportSettings& settings = {});
 
-/// Writes a character with its skeleton, skin and clips through assimp's exporter. The format
-/// follows the extension: .glb (binary glTF 2), .gltf (glTF 2 with its .bin beside it), .fbx
-/// (binary FBX) or .dae (Collada). The character is validated first; errors name the file.
+/// Writes a character with its skeleton, skin and clips through assimp's glTF 2 exporter: .glb
+/// (binary) or .gltf (JSON with its .bin beside it). Other extensions are refused: assimp 5.2.5's
+/// FBX and Collada writers lose or corrupt skinned animation (see CharacterExport.cpp). Clip key
+/// times are written in seconds. The character is validated first; errors name the file.
 Status exportCharacter(const Character& character, const std::string& path);
 
 } // namespace cc
