@@ -162,6 +162,35 @@ TEST(Import, FbxSkinAndSkeletonMatchTheMannequin) {
     expectSamePosedSkin(m.character, r.value(), "fbx");
 }
 
+// The same file declared Z up, front -Y, in metres (UnitScaleFactor 100 cm per unit): the
+// importer turns it to Y up, so every posed vertex is the original rotated by file Z -> +Y.
+TEST(Import, FbxAxisAndUnitMetadataAreApplied) {
+    const Mannequin m = mannequin();
+    const std::string fbx = convertWithAssimp(m.character, "fbx", "fbxa");
+    std::ifstream in(fbx);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const auto patch = [&](const std::string& from, const std::string& to) {
+        const auto at = text.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+    };
+    patch("\"UpAxis\", \"int\", \"Integer\", \"\", 1", "\"UpAxis\", \"int\", \"Integer\", \"\", 2");
+    patch("\"FrontAxis\", \"int\", \"Integer\", \"\", 2", "\"FrontAxis\", \"int\", \"Integer\", \"\", 1");
+    patch("\"FrontAxisSign\", \"int\", \"Integer\", \"\", 1", "\"FrontAxisSign\", \"int\", \"Integer\", \"\", -1");
+    patch("\"UnitScaleFactor\", \"double\", \"Number\", \"\", 1", "\"UnitScaleFactor\", \"double\", \"Number\", \"\", 100");
+    const std::string zUp = (tempDir() / "z_up.fbx").string();
+    std::ofstream(zUp) << text;
+    Result<Character> r = importCharacter(zUp);
+    ASSERT_TRUE(r.isOk()) << r.status().message();
+    // Expected: (x, y, z) -> (x, z, -y) applied to the original mannequin.
+    Character rotated = m.character;
+    Mat3 rot;
+    rot << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+    ASSERT_TRUE(changeBasis(rotated, 1.0, rot).isOk());
+    expectSamePosedSkin(rotated, r.value(), "fbx z-up");
+}
+
 TEST(Import, ColladaSkinAndSkeletonMatchTheMannequin) {
     const Mannequin m = mannequin();
     const std::string dae = convertWithAssimp(m.character, "dae", "collada");

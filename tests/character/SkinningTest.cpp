@@ -201,6 +201,29 @@ TEST(Skeleton, ValidateRejectsParentsOutOfOrder) {
     EXPECT_NE(s.message().find("'b'"), std::string::npos) << s.message();
 }
 
+TEST(Character, ChangeBasisMapsEverySkinnedPosition) {
+    const Mannequin man = makeMannequin();
+    Character moved = man.character;
+    Mat3 rot;
+    rot << 0, 0, 1, 1, 0, 0, 0, 1, 0; // an axis permutation (x, y, z) -> (z, x, y)
+    ASSERT_TRUE(changeBasis(moved, 100.0, rot).isOk());
+    ASSERT_TRUE(moved.validate().isOk()) << moved.validate().message();
+    const Character& ch = man.character;
+    CharacterPose a(ch), b(moved);
+    std::vector<Vec3> pa(ch.body.vertexCount()), pb(ch.body.vertexCount());
+    for (double t : {0.0, 0.21, 0.55}) {
+        ASSERT_TRUE(a.evaluate(ch, ch.findClip("run"), t, ClipWrap::Loop).isOk());
+        ASSERT_TRUE(b.evaluate(moved, moved.findClip("run"), t, ClipWrap::Loop).isOk());
+        ASSERT_TRUE(skinVertices(ch.body, a.skinMatrices(), pa, {}).isOk());
+        ASSERT_TRUE(skinVertices(moved.body, b.skinMatrices(), pb, {}).isOk());
+        for (std::size_t v = 0; v < pa.size(); ++v) {
+            ASSERT_LT((pb[v] - 100.0 * (rot * pa[v])).norm(), 1e-10) << "vertex " << v;
+        }
+    }
+    EXPECT_FALSE(changeBasis(moved, -1.0, rot).isOk());
+    EXPECT_FALSE(changeBasis(moved, 1.0, -Mat3::Identity()).isOk()) << "a reflection is refused";
+}
+
 TEST(Skinning, WrongSizesGiveErrorsNotCrashes) {
     const Mannequin man = makeMannequin();
     const Character& ch = man.character;
