@@ -43,6 +43,8 @@ cc_require(PKG_CONFIG_FOUND "pkg-config" pkg-config)
 if(CC_BUILD_SAMPLES OR CC_BUILD_TESTS)
     pkg_check_modules(OSMESA QUIET IMPORTED_TARGET osmesa)
     cc_require(OSMESA_FOUND "OSMesa" libosmesa6-dev)
+    pkg_check_modules(STB QUIET IMPORTED_TARGET stb)
+    cc_require(STB_FOUND "stb (PNG writing)" libstb-dev)
 endif()
 
 if(CC_BUILD_TESTS)

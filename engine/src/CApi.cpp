@@ -330,7 +330,7 @@ cc_status cc_world_get_frame_stats(const cc_world* w, cc_frame_stats* out) {
     CC_CHECK_WORLD(w);
     CC_CHECK_OUT(w, out, "out_stats");
     const cc::FrameStats& f = w->world->frameStats();
-    *out = cc_frame_stats{f.frame, f.bodiesMs, f.scheduleMs, f.simulateMs, f.publishMs, f.totalMs,
+    *out = cc_frame_stats{f.frame, f.scheduleMs, f.simulateMs, f.totalMs,
                           f.predictedCpuMs, f.measuredCpuMs, f.budgetCpuMs, f.garments, f.updated, f.asleep,
                           f.visible, f.failed, f.levelSwitches, {}, f.threads};
     for (int l = 0; l < 16; ++l) out->garments_per_level[l] = f.garmentsPerLevel[l];

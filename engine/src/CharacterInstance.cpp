@@ -3,12 +3,21 @@
 namespace cc::detail {
 
 Status CharacterInstance::updatePose() {
-    if (poseCurrent || body->hostSkinned) return Status::ok();
-    poseCurrent = true;
-    return pose.evaluate(body->mannequin.character, clip, clipTime, ClipWrap::Loop);
+    std::lock_guard<std::mutex> lock(mMutex);
+    return updatePoseLocked();
+}
+
+Status CharacterInstance::updatePoseLocked() {
+    if (body->hostSkinned) return Status::ok();
+    if (!poseCurrent) {
+        poseCurrent = true;
+        mPoseStatus = pose.evaluate(body->mannequin.character, clip, clipTime, ClipWrap::Loop);
+    }
+    return mPoseStatus;
 }
 
 Status CharacterInstance::updateSkin() {
+    std::lock_guard<std::mutex> lock(mMutex);
     if (skinnedCurrent) return Status::ok();
     if (body->hostSkinned) {
         if (!hostVerticesGiven)
@@ -17,7 +26,7 @@ Status CharacterInstance::updateSkin() {
         skinnedCurrent = true;
         return Status::ok();
     }
-    if (Status s = updatePose(); !s) return s;
+    if (Status s = updatePoseLocked(); !s) return s;
     skinnedPositions.resize(body->mesh().vertexCount());
     skinnedCurrent = true;
     return skinVertices(body->mesh(), pose.skinMatrices(), skinnedPositions, Span<Vec3>());

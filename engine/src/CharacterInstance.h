@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "BodyAsset.h"
@@ -27,15 +28,24 @@ struct CharacterInstance {
     bool skinnedCurrent = false;
     bool hostVerticesGiven = false; ///< host-skinned: setCharacterSkinnedVertices() this frame
     std::vector<GarmentId> garments;
+    std::vector<float> drawPositions, drawNormals;  ///< characterMesh() buffers (world space)
+    std::vector<uint32_t> drawIndices;
 
     /// Root transform (character space -> world).
     Mat3 rotation() const { return Eigen::AngleAxisd(yaw, Vec3::UnitY()).toRotationMatrix(); }
     Vec3 toWorld(const Vec3& local) const { return rotation() * local + position; }
 
-    /// Evaluates the pose for this frame (once).
+    /// Evaluates the pose for this frame (once; safe to call from the tasks of several garments of
+    /// this character at once: the first evaluates, the others wait and read).
     Status updatePose();
-    /// Skins the body mesh (once per frame; host-skinned bodies already hold their vertices).
+    /// Skins the body mesh (once per frame, thread-safe as updatePose; host-skinned bodies already
+    /// hold their vertices).
     Status updateSkin();
+
+private:
+    Status updatePoseLocked();
+    std::mutex mMutex;
+    Status mPoseStatus;
 };
 
 } // namespace cc::detail

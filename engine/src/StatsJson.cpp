@@ -30,8 +30,8 @@ std::string WorldImpl::statsJson() const {
     const FrameStats& f = mFrameStats;
     std::ostringstream out;
     out.precision(6);
-    out << "{\"frame\":" << f.frame << ",\"threads\":" << f.threads << ",\"ms\":{\"bodies\":" << f.bodiesMs
-        << ",\"schedule\":" << f.scheduleMs << ",\"simulate\":" << f.simulateMs << ",\"publish\":" << f.publishMs
+    out << "{\"frame\":" << f.frame << ",\"threads\":" << f.threads << ",\"ms\":{\"schedule\":" << f.scheduleMs
+        << ",\"simulate\":" << f.simulateMs
         << ",\"total\":" << f.totalMs << "},\"cpuMs\":{\"predicted\":" << f.predictedCpuMs
         << ",\"measured\":" << f.measuredCpuMs << ",\"budget\":" << f.budgetCpuMs << "},\"garments\":" << f.garments
         << ",\"updated\":" << f.updated << ",\"asleep\":" << f.asleep << ",\"visible\":" << f.visible

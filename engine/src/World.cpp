@@ -50,6 +50,7 @@ Status World::setCameras(const CameraDesc* cameras, uint32_t count) { return imp
 Status World::setFrameBudget(double milliseconds) { return impl(this).setFrameBudget(milliseconds); }
 Status World::step(double dt) { return impl(this).step(dt); }
 Result<RenderMeshView> World::renderMesh(GarmentId id) const { return impl(this).renderMesh(id); }
+Result<RenderMeshView> World::characterMesh(CharacterId id) { return impl(this).characterMesh(id); }
 Result<GarmentStats> World::garmentStats(GarmentId id) const { return impl(this).garmentStats(id); }
 const FrameStats& World::frameStats() const { return impl(this).frameStats(); }
 std::string World::statsJson() const { return impl(this).statsJson(); }

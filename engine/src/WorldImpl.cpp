@@ -259,7 +259,6 @@ void WorldImpl::updateGarment(const FrameItem& item, double dt) {
     GarmentInstance& g = *item.garment;
     const lod::GarmentSchedule& schedule = g.schedule;
     GarmentStats& stats = g.stats;
-    stats.updated = true;
 
     cloth::SimulationSettings settings;
     settings.integrator = integratorFor(schedule.solver);
@@ -320,38 +319,27 @@ Status WorldImpl::step(double dt) {
     if (Status s = scheduleFrame(dt); !s) return s;
     fs.scheduleMs = msSince(phase);
 
-    mDue.clear();
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         GarmentInstance& g = *mItems[i].garment;
         g.stats = GarmentStats{};
         const int interval = g.schedule.updateInterval;
         // Spread garments at the same rate over the frames (by id) so the load stays even.
-        if (interval > 0 && (fs.frame + mItems[i].id.index1) % uint64_t(interval) == 0) mDue.push_back(i);
+        g.stats.updated = interval > 0 && (fs.frame + mItems[i].id.index1) % uint64_t(interval) == 0;
     }
 
-    // Bodies: pose each character that has a garment to update, once, before garments read it.
+    // One parallel pass: a garment's task poses its character's body on first need (once per
+    // character), updates the garment if it is due and publishes its render mesh if it is due or
+    // seen. One region instead of three: on a busy machine every barrier costs a time slice.
     phase = Clock::now();
-    mPosed.clear();
-    for (std::size_t i : mDue) mPosed.push_back(mItems[i].character);
-    std::sort(mPosed.begin(), mPosed.end());
-    mPosed.erase(std::unique(mPosed.begin(), mPosed.end()), mPosed.end());
-    std::vector<Status> bodyStatus(mPosed.size());
-    parallelForEach(int64_t(mPosed.size()), threadCount(), [&](int64_t k) {
-        CharacterInstance& c = *mPosed[k];
-        bodyStatus[k] = c.body->hostSkinned ? c.updateSkin() : c.updatePose();
+    mWork.clear();
+    for (std::size_t i = 0; i < mItems.size(); ++i)
+        if (mItems[i].garment->stats.updated || mItems[i].garment->schedule.visible) mWork.push_back(i);
+    parallelForEach(int64_t(mWork.size()), threadCount(), [&](int64_t k) {
+        const FrameItem& item = mItems[mWork[k]];
+        if (item.garment->stats.updated) updateGarment(item, dt);
+        item.garment->publish(*item.character);
     });
-    fs.bodiesMs = msSince(phase);
-
-    phase = Clock::now();
-    parallelForEach(int64_t(mDue.size()), threadCount(), [&](int64_t k) { updateGarment(mItems[mDue[k]], dt); });
     fs.simulateMs = msSince(phase);
-
-    phase = Clock::now();
-    parallelForEach(int64_t(mItems.size()), threadCount(), [&](int64_t i) {
-        GarmentInstance& g = *mItems[i].garment;
-        if (g.stats.updated || g.schedule.visible) g.publish(*mItems[i].character);
-    });
-    fs.publishMs = msSince(phase);
 
     // Totals and learning, in item order so the sums are the same for any thread count.
     for (const FrameItem& item : mItems) {
@@ -387,8 +375,6 @@ Status WorldImpl::step(double dt) {
         if (c.body->hostSkinned) c.hostVerticesGiven = c.skinnedCurrent = false; // needed again next frame
     });
     fs.totalMs = msSince(frameStart);
-    for (const Status& s : bodyStatus)
-        if (!s) return s;
     return Status::ok();
 }
 
@@ -402,6 +388,38 @@ Result<GarmentStats> WorldImpl::garmentStats(GarmentId id) const {
     const GarmentInstance* g = mGarments.get(id);
     if (!g) return staleHandle("garment");
     return g->stats;
+}
+
+Result<RenderMeshView> WorldImpl::characterMesh(CharacterId id) {
+    CharacterInstance* c = mCharacters.get(id);
+    if (!c) return staleHandle("character");
+    if (!c->body->hostSkinned) // a host-skinned body shows the vertices last handed in
+        if (Status s = c->updateSkin(); !s) return s;
+    const SkinnedMesh& mesh = c->body->mesh();
+    const std::size_t n = c->skinnedPositions.size();
+    c->drawPositions.resize(3 * n);
+    c->drawNormals.assign(3 * n, 0.0f);
+    std::vector<Vec3> normals(n, Vec3::Zero());
+    for (const auto& t : mesh.triangles) {
+        const Vec3 areaNormal = (c->skinnedPositions[t[1]] - c->skinnedPositions[t[0]])
+                                    .cross(c->skinnedPositions[t[2]] - c->skinnedPositions[t[0]]);
+        for (uint32_t v : t) normals[v] += areaNormal;
+    }
+    const Mat3 rotation = c->rotation();
+    for (std::size_t v = 0; v < n; ++v) {
+        const Vec3 p = c->toWorld(c->skinnedPositions[v]);
+        const Vec3 nrm = rotation * normals[v].normalized();
+        for (int k = 0; k < 3; ++k) c->drawPositions[3 * v + k] = float(p[k]), c->drawNormals[3 * v + k] = float(nrm[k]);
+    }
+    if (c->drawIndices.empty())
+        for (const auto& t : mesh.triangles) c->drawIndices.insert(c->drawIndices.end(), t.begin(), t.end());
+    RenderMeshView view;
+    view.positions = c->drawPositions.data();
+    view.normals = c->drawNormals.data();
+    view.vertexCount = uint32_t(n);
+    view.indices = c->drawIndices.data();
+    view.triangleCount = uint32_t(mesh.triangles.size());
+    return view;
 }
 
 uint64_t WorldImpl::stateHash() const {

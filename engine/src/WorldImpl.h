@@ -31,6 +31,7 @@ public:
     Status step(double dt);
     Result<RenderMeshView> renderMesh(GarmentId id) const;
     Result<GarmentStats> garmentStats(GarmentId id) const;
+    Result<RenderMeshView> characterMesh(CharacterId id);
     const FrameStats& frameStats() const { return mFrameStats; }
     std::string statsJson() const;
     uint64_t stateHash() const;
@@ -70,8 +71,7 @@ private:
     std::vector<uint32_t> mProfileOfAsset;  ///< asset index1 -> profile slot this frame
     std::vector<lod::GarmentRequest> mRequests;
     std::vector<lod::GarmentSchedule> mSchedules;
-    std::vector<std::size_t> mDue;           ///< items updated this frame
-    std::vector<CharacterInstance*> mPosed;  ///< characters whose bodies this frame needs
+    std::vector<std::size_t> mWork;          ///< items updated or seen this frame
 };
 
 } // namespace cc::detail

@@ -51,7 +51,7 @@ struct ClothAssetDesc {
     double cellSize = 0.2;           ///< [m] base (level 0) grid spacing; (0, 1]
     uint32_t levelCount = 5;         ///< [-] uniform levels 0..levelCount-1, each halving triangle
                                      ///< area; [1, 10]
-    uint32_t renderLevel = 6;        ///< [-] level of the fixed render mesh; >= levelCount - 1, <= 10
+    uint32_t renderLevel = 4;        ///< [-] level of the fixed render mesh; >= levelCount - 1, <= 10
     double arealDensity = 0.15;      ///< [kg/m^2] > 0
     double stretchStiffness = 5.0e3; ///< [N/m] > 0
     double shearStiffness = 5.0e2;   ///< [N/m] > 0
@@ -132,7 +132,9 @@ struct GarmentStats {
 /// Totals of the last frame.
 struct FrameStats {
     uint64_t frame = 0;
-    double bodiesMs = 0.0, scheduleMs = 0.0, simulateMs = 0.0, publishMs = 0.0, totalMs = 0.0; ///< [ms] wall
+    double scheduleMs = 0.0;  ///< [ms] wall: costing and scheduling every garment
+    double simulateMs = 0.0;  ///< [ms] wall: posing bodies, updating and publishing garments (parallel)
+    double totalMs = 0.0;     ///< [ms] wall: the whole step
     double predictedCpuMs = 0.0;     ///< [ms] sum of predicted garment costs
     double measuredCpuMs = 0.0;      ///< [ms] sum of measured garment costs
     double budgetCpuMs = 0.0;        ///< [ms] what the scheduler was allowed (frame budget x threads)
@@ -187,6 +189,9 @@ public:
     Status step(double dt);
 
     Result<RenderMeshView> renderMesh(GarmentId id) const;
+    /// The character's body skinned at this frame's pose, in world space (skinned on demand, for
+    /// drawing and debugging; valid until the next call or step()).
+    Result<RenderMeshView> characterMesh(CharacterId id);
     Result<GarmentStats> garmentStats(GarmentId id) const;
     const FrameStats& frameStats() const;
     /// The last frame's stats (totals and every garment) as a JSON document.

@@ -111,7 +111,7 @@ typedef struct cc_garment_stats {
 
 typedef struct cc_frame_stats {
     uint64_t frame;
-    double bodies_ms, schedule_ms, simulate_ms, publish_ms, total_ms;
+    double schedule_ms, simulate_ms, total_ms;  /* [ms] wall */
     double predicted_cpu_ms, measured_cpu_ms, budget_cpu_ms;
     uint32_t garments, updated, asleep, visible, failed, level_switches;
     uint32_t garments_per_level[16];

@@ -1,0 +1,304 @@
+// crowd: the main job. A plaza of walking, running and standing mannequins wearing capes and
+// skirts, seen by a moving camera; crowdcloth chooses each garment's level, solver and rate under
+// a frame budget. Renders frames headless (OSMesa) to PNG, and to MP4 when ffmpeg is present;
+// writes per-frame stats as JSON; prints a summary.
+//
+//   cc_crowd [--characters N] [--seconds S] [--out DIR] [--render-every K] [--no-render]
+//            [--budget MS] [--threads T] [--width W] [--height H]
+//   cc_crowd --scaling   crowd scaling benchmark: 10 -> 1000 characters, with LOD and at full
+//                        resolution, and the 1 -> 2 thread speed-up
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Plaza.h"
+#include "crowdcloth/World.h"
+#include "crowdcloth/render/OffscreenRenderer.h"
+
+namespace {
+
+struct Options {
+    int characters = 200;
+    double seconds = 10.0;
+    std::string out = "crowd_out";
+    int renderEvery = 4;
+    bool render = true;
+    double budgetMs = 12.0;
+    int threads = 0;
+    int width = 960, height = 540;
+    bool scaling = false;
+};
+
+bool parse(int argc, char** argv, Options& o) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&](const char* what) -> const char* {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "%s needs a value\n", what);
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--characters") o.characters = std::atoi(next("--characters"));
+        else if (a == "--seconds") o.seconds = std::atof(next("--seconds"));
+        else if (a == "--out") o.out = next("--out");
+        else if (a == "--render-every") o.renderEvery = std::max(1, std::atoi(next("--render-every")));
+        else if (a == "--no-render") o.render = false;
+        else if (a == "--budget") o.budgetMs = std::atof(next("--budget"));
+        else if (a == "--threads") o.threads = std::atoi(next("--threads"));
+        else if (a == "--width") o.width = std::atoi(next("--width"));
+        else if (a == "--height") o.height = std::atoi(next("--height"));
+        else if (a == "--scaling") o.scaling = true;
+        else {
+            std::fprintf(stderr, "unknown option '%s' (see the comment at the top of samples/crowd/main.cpp)\n", a.c_str());
+            return false;
+        }
+    }
+    if (o.characters < 1 || o.characters > 100000 || !(o.seconds > 0.0) || o.width < 16 || o.height < 16) {
+        std::fprintf(stderr, "bad option value\n");
+        return false;
+    }
+    return true;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t k = std::min(v.size() - 1, std::size_t(std::ceil(p * double(v.size())) - 1));
+    return v[k];
+}
+
+struct WorldDeleter {
+    void operator()(cc::World* w) const { cc::World::destroy(w); }
+};
+using WorldPtr = std::unique_ptr<cc::World, WorldDeleter>;
+
+void progress(int frame, int frames, double ms) {
+    if (frame % 30 != 0 && frame != frames) return;
+    const int width = 30, filled = frame * width / frames;
+    std::fprintf(stderr, "\r[%.*s%*s] %3d%% frame %d/%d %6.2f ms", filled, "##############################",
+                 width - filled, "", 100 * frame / frames, frame, frames, ms);
+    if (frame == frames) std::fprintf(stderr, "\n");
+}
+
+const float kCapeColour[3] = {0.70f, 0.15f, 0.15f};
+const float kSkirtColour[3] = {0.15f, 0.35f, 0.70f};
+const float kBodyColour[3] = {0.80f, 0.72f, 0.62f};
+
+cc::Status renderFrame(cc::World& world, const crowd::Plaza& plaza, cc::render::OffscreenRenderer& renderer,
+                       const std::string& path) {
+    const float sky[3] = {0.78f, 0.84f, 0.90f};
+    renderer.beginFrame(plaza.viewProjection(), sky);
+    renderer.drawGround(float(plaza.extent() + 15.0), 2.0f);
+    for (std::size_t i = 0; i < plaza.characters().size(); ++i) {
+        auto body = world.characterMesh(plaza.characters()[i]);
+        if (!body.isOk()) return body.status();
+        const cc::RenderMeshView& b = body.value();
+        renderer.drawMesh(b.positions, b.normals, b.vertexCount, b.indices, b.triangleCount, kBodyColour);
+        auto garment = world.renderMesh(plaza.garments()[i]);
+        if (!garment.isOk()) return garment.status();
+        const cc::RenderMeshView& g = garment.value();
+        renderer.drawMesh(g.positions, g.normals, g.vertexCount, g.indices, g.triangleCount,
+                          plaza.garmentKinds()[i] == int(cc::GarmentKind::Skirt) ? kSkirtColour : kCapeColour);
+    }
+    renderer.endFrame();
+    return renderer.writePng(path);
+}
+
+/// One run of the plaza; returns per-frame total ms (after a warm-up second) and the last stats.
+struct RunResult {
+    std::vector<double> frameMs;
+    std::vector<double> perLevelMean;
+    double meanUpdated = 0.0, meanAsleep = 0.0, meanVisible = 0.0, maxErrorPx = 0.0;
+    uint32_t failed = 0;
+    bool ok = true;
+};
+
+RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs) {
+    RunResult result;
+    WorldPtr world(cc::World::create(desc).value());
+    crowd::PlazaSettings ps;
+    ps.characters = characters;
+    auto plaza = crowd::Plaza::create(*world, ps);
+    if (!plaza.isOk()) {
+        std::fprintf(stderr, "plaza: %s\n", plaza.status().message().c_str());
+        result.ok = false;
+        return result;
+    }
+    result.perLevelMean.assign(16, 0.0);
+    int measured = 0;
+    for (int f = 1; f <= warmup + frames; ++f) {
+        (void)plaza.value().update(*world, f / 60.0, 1920, 1080);
+        if (cc::Status s = world->step(1.0 / 60.0); !s) {
+            std::fprintf(stderr, "step: %s\n", s.message().c_str());
+            result.ok = false;
+            return result;
+        }
+        const cc::FrameStats& fs = world->frameStats();
+        result.failed += fs.failed;
+        if (f <= warmup) continue;
+        ++measured;
+        result.frameMs.push_back(fs.totalMs);
+        for (int l = 0; l < 16; ++l) result.perLevelMean[l] += fs.garmentsPerLevel[l];
+        result.meanUpdated += fs.updated;
+        result.meanAsleep += fs.asleep;
+        result.meanVisible += fs.visible;
+        for (cc::GarmentId g : plaza.value().garments()) {
+            const cc::GarmentStats gs = world->garmentStats(g).value();
+            if (gs.updateInterval > 0 && gs.screenRadiusPx > 0.0)
+                result.maxErrorPx = std::max(result.maxErrorPx, gs.predictedErrorPx);
+        }
+        if (fs.totalMs > stopAboveMs) break;
+    }
+    for (double& x : result.perLevelMean) x /= std::max(measured, 1);
+    result.meanUpdated /= std::max(measured, 1);
+    result.meanAsleep /= std::max(measured, 1);
+    result.meanVisible /= std::max(measured, 1);
+    return result;
+}
+
+int scaling(const Options& o) {
+    std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads\n", o.budgetMs,
+                o.threads > 0 ? std::to_string(o.threads).c_str() : "all");
+    std::printf("%-10s %-6s %10s %10s %8s %8s %8s  %s\n", "characters", "mode", "median ms", "p99 ms", "updated",
+                "asleep", "err px", "garments per level L0..L4 (mean)");
+    const int counts[] = {10, 30, 100, 300, 1000};
+    int fitLod = 0, fitFull = 0;
+    bool fullStillFits = true;
+    for (int n : counts) {
+        for (int full = 0; full <= 1; ++full) {
+            if (full && !fullStillFits) {
+                std::printf("%-10d %-6s %10s (skipped: a smaller crowd already missed 16.7 ms)\n", n, "full", "-");
+                continue;
+            }
+            cc::WorldDesc desc;
+            desc.maxThreads = uint32_t(o.threads);
+            desc.frameBudgetMs = o.budgetMs;
+            if (full) { // every garment at its finest level, every frame
+                desc.pixelTolerance = 1e-9;
+                desc.frameBudgetMs = 1e9;
+                desc.maxUpdateInterval = 1;
+            }
+            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
+            if (!r.ok) return 1;
+            const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
+            std::printf("%-10d %-6s %10.2f %10.2f %8.1f %8.1f %8.2f  %.1f %.1f %.1f %.1f %.1f%s\n", n,
+                        full ? "full" : "lod", median, p99, r.meanUpdated, r.meanAsleep, r.maxErrorPx,
+                        r.perLevelMean[0], r.perLevelMean[1], r.perLevelMean[2], r.perLevelMean[3],
+                        r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
+            std::fflush(stdout);
+            if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
+            if (full && p99 > 16.7) fullStillFits = false;
+        }
+    }
+    std::printf("largest tested crowd within 16.7 ms p99: %d with LOD, %d at full resolution\n", fitLod, fitFull);
+    // 1 -> 2 threads on the same crowd.
+    double ms[2] = {0.0, 0.0};
+    for (int t = 1; t <= 2; ++t) {
+        cc::WorldDesc desc;
+        desc.maxThreads = uint32_t(t);
+        desc.frameBudgetMs = 1e9; // the same work on both: the speed-up, not the budget, is measured
+        desc.fixedCostModel = true;
+        desc.budgetThreads = 2;
+        const RunResult r = runPlaza(100, desc, 120, 30, 1e9);
+        if (!r.ok) return 1;
+        ms[t - 1] = percentile(r.frameMs, 0.5);
+    }
+    std::printf("100 characters, same work: median %.2f ms on 1 thread, %.2f ms on 2: speed-up %.2fx\n", ms[0], ms[1],
+                ms[0] / ms[1]);
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    if (!parse(argc, argv, o)) return 2;
+    if (o.scaling) return scaling(o);
+
+    cc::WorldDesc desc;
+    desc.maxThreads = uint32_t(std::max(o.threads, 0));
+    desc.frameBudgetMs = o.budgetMs;
+    auto created = cc::World::create(desc);
+    if (!created.isOk()) {
+        std::fprintf(stderr, "%s\n", created.status().message().c_str());
+        return 1;
+    }
+    WorldPtr world(created.value());
+    crowd::PlazaSettings ps;
+    ps.characters = o.characters;
+    auto plaza = crowd::Plaza::create(*world, ps);
+    if (!plaza.isOk()) {
+        std::fprintf(stderr, "plaza: %s\n", plaza.status().message().c_str());
+        return 1;
+    }
+    std::unique_ptr<cc::render::OffscreenRenderer> renderer;
+    const std::filesystem::path out(o.out);
+    std::filesystem::create_directories(out / "frames");
+    if (o.render) {
+        auto r = cc::render::OffscreenRenderer::create(o.width, o.height);
+        if (!r.isOk()) {
+            std::fprintf(stderr, "renderer: %s (rerun with --no-render)\n", r.status().message().c_str());
+            return 1;
+        }
+        renderer = std::move(r).value();
+    }
+
+    const int frames = int(std::lround(o.seconds * 60.0));
+    std::ofstream statsFile(out / "crowd_stats.json");
+    statsFile << "[\n";
+    std::vector<double> frameMs;
+    uint32_t failed = 0, rendered = 0;
+    std::vector<double> perLevel(16, 0.0);
+    for (int f = 1; f <= frames; ++f) {
+        if (cc::Status s = plaza.value().update(*world, f / 60.0, o.width, o.height); !s) {
+            std::fprintf(stderr, "\n%s\n", s.message().c_str());
+            return 1;
+        }
+        if (cc::Status s = world->step(1.0 / 60.0); !s) {
+            std::fprintf(stderr, "\nstep: %s\n", s.message().c_str());
+            return 1;
+        }
+        const cc::FrameStats& fs = world->frameStats();
+        if (f > 60) frameMs.push_back(fs.totalMs);
+        failed += fs.failed;
+        for (int l = 0; l < 16; ++l) perLevel[l] += fs.garmentsPerLevel[l];
+        statsFile << (f > 1 ? ",\n" : "") << world->statsJson();
+        if (renderer && f % o.renderEvery == 0) {
+            char name[64];
+            std::snprintf(name, sizeof(name), "frame_%05d.png", ++rendered);
+            if (cc::Status s = renderFrame(*world, plaza.value(), *renderer, (out / "frames" / name).string()); !s) {
+                std::fprintf(stderr, "\n%s\n", s.message().c_str());
+                return 1;
+            }
+        }
+        progress(f, frames, fs.totalMs);
+    }
+    statsFile << "\n]\n";
+
+    std::printf("crowd: %d characters, %d frames at 60 Hz, cloth budget %.1f ms, %u threads\n", o.characters, frames,
+                o.budgetMs, world->frameStats().threads);
+    std::printf("cloth ms per frame (after 1 s warm-up): median %.2f, p99 %.2f, max %.2f\n", percentile(frameMs, 0.5),
+                percentile(frameMs, 0.99), percentile(frameMs, 1.0));
+    std::printf("garments per level (mean over frames):");
+    for (int l = 0; l < 8; ++l) std::printf(" L%d %.1f", l, perLevel[l] / frames);
+    std::printf("\nfailed garment updates: %u\nstats: %s\n", failed, (out / "crowd_stats.json").string().c_str());
+    if (renderer) {
+        std::printf("frames: %u PNG in %s\n", rendered, (out / "frames").string().c_str());
+        if (std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
+            const std::string cmd = "ffmpeg -loglevel error -y -framerate " + std::to_string(60 / o.renderEvery) +
+                                    " -i '" + (out / "frames" / "frame_%05d.png").string() +
+                                    "' -vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -pix_fmt yuv420p '" +
+                                    (out / "crowd.mp4").string() + "'";
+            if (std::system(cmd.c_str()) == 0) std::printf("video: %s\n", (out / "crowd.mp4").string().c_str());
+        }
+    }
+    return failed == 0 ? 0 : 3;
+}
