@@ -1,0 +1,195 @@
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "crowdcloth/Version.h"
+#include "crowdcloth/World.h"
+#include "crowdcloth/crowdcloth.h"
+#include "support/CrowdScenes.h"
+
+namespace cc {
+namespace {
+
+TEST(CApi, DescDefaultsAreTheCppDefaults) {
+    cc_world_desc w;
+    cc_world_desc_init(&w);
+    const WorldDesc cw;
+    EXPECT_EQ(w.version, CC_DESC_VERSION);
+    EXPECT_EQ(w.max_threads, cw.maxThreads);
+    EXPECT_EQ(w.frame_budget_ms, cw.frameBudgetMs);
+    EXPECT_EQ(w.pixel_tolerance, cw.pixelTolerance);
+    EXPECT_EQ(w.fixed_cost_model != 0, cw.fixedCostModel);
+    EXPECT_EQ(w.max_update_interval, cw.maxUpdateInterval);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(w.gravity[k], cw.gravity[k]);
+
+    cc_cloth_asset_desc a;
+    cc_cloth_asset_desc_init(&a);
+    const ClothAssetDesc ca;
+    EXPECT_EQ(a.kind, cc_garment_kind(ca.kind));
+    EXPECT_EQ(a.width, ca.width);
+    EXPECT_EQ(a.length, ca.length);
+    EXPECT_EQ(a.cell_size, ca.cellSize);
+    EXPECT_EQ(a.level_count, ca.levelCount);
+    EXPECT_EQ(a.render_level, ca.renderLevel);
+    EXPECT_EQ(a.areal_density, ca.arealDensity);
+    EXPECT_EQ(a.stretch_stiffness, ca.stretchStiffness);
+    EXPECT_EQ(a.shear_stiffness, ca.shearStiffness);
+    EXPECT_EQ(a.bend_stiffness, ca.bendStiffness);
+    EXPECT_EQ(a.damping, ca.damping);
+    EXPECT_EQ(a.thickness, ca.thickness);
+    EXPECT_EQ(a.friction, ca.friction);
+    EXPECT_EQ(a.fold_radius, ca.foldRadius);
+
+    cc_mannequin_desc m;
+    cc_mannequin_desc_init(&m);
+    const MannequinDesc cm;
+    EXPECT_EQ(m.height, cm.height);
+    EXPECT_EQ(m.shoulder_width, cm.shoulderWidth);
+    EXPECT_EQ(m.hip_width, cm.hipWidth);
+    EXPECT_EQ(m.waist_width, cm.waistWidth);
+    EXPECT_EQ(m.limb_girth, cm.limbGirth);
+
+    cc_character_desc c;
+    cc_character_desc_init(&c);
+    const CharacterDesc cc;
+    EXPECT_STREQ(c.clip, cc.clip);
+    EXPECT_EQ(c.clip_time, cc.clipTime);
+    EXPECT_EQ(c.playback_rate, cc.playbackRate);
+    EXPECT_EQ(c.yaw, cc.yaw);
+
+    cc_garment_desc g;
+    cc_garment_desc_init(&g);
+    EXPECT_EQ(g.importance, GarmentDesc{}.importance);
+    cc_camera_desc cam;
+    cc_camera_desc_init(&cam);
+    EXPECT_EQ(0, std::memcmp(cam.view_projection, CameraDesc{}.viewProjection, sizeof(cam.view_projection)));
+    EXPECT_EQ(cc_get_version(), kVersion);
+}
+
+/// The same walk through the C API and the C++ API gives the same state hash.
+TEST(CApi, RoundTripMatchesTheCppApi) {
+    const CameraDesc camera = test::cameraLookingAt(Vec3(-1.5, 1.5, -3.0), Vec3(0, 1.2, 0));
+    uint64_t cHash = 0, cppHash = 0;
+    {
+        cc_world_desc wd;
+        cc_world_desc_init(&wd);
+        wd.fixed_cost_model = 1;
+        cc_world* world = nullptr;
+        ASSERT_EQ(cc_world_create(&wd, &world), CC_OK);
+        cc_cloth_asset_desc ad;
+        cc_cloth_asset_desc_init(&ad);
+        cc_asset_id asset;
+        ASSERT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_OK);
+        cc_mannequin_desc md;
+        cc_mannequin_desc_init(&md);
+        cc_body_id body;
+        ASSERT_EQ(cc_world_add_mannequin_body(world, &md, &body), CC_OK);
+        cc_character_desc cd;
+        cc_character_desc_init(&cd);
+        cd.body = body;
+        cc_character_id character;
+        ASSERT_EQ(cc_world_add_character(world, &cd, &character), CC_OK);
+        cc_garment_desc gd;
+        cc_garment_desc_init(&gd);
+        cc_garment_id garment;
+        ASSERT_EQ(cc_world_add_garment(world, asset, character, &gd, &garment), CC_OK);
+        cc_camera_desc cam;
+        cc_camera_desc_init(&cam);
+        std::memcpy(cam.view_projection, camera.viewProjection, sizeof(cam.view_projection));
+        cam.viewport_width = camera.viewportWidth;
+        cam.viewport_height = camera.viewportHeight;
+        ASSERT_EQ(cc_world_set_cameras(world, &cam, 1), CC_OK);
+        for (int f = 0; f < 30; ++f) ASSERT_EQ(cc_world_step(world, 1.0 / 60.0), CC_OK) << cc_world_last_error(world);
+        cc_render_mesh mesh;
+        ASSERT_EQ(cc_world_get_render_mesh(world, garment, &mesh), CC_OK);
+        EXPECT_GT(mesh.vertex_count, 0u);
+        cc_garment_stats gs;
+        ASSERT_EQ(cc_world_get_garment_stats(world, garment, &gs), CC_OK);
+        EXPECT_EQ(gs.failed, 0);
+        cc_frame_stats fs;
+        ASSERT_EQ(cc_world_get_frame_stats(world, &fs), CC_OK);
+        EXPECT_EQ(fs.frame, 30u);
+        const char* json = nullptr;
+        ASSERT_EQ(cc_world_get_stats_json(world, &json), CC_OK);
+        EXPECT_NE(std::string(json).find("\"garmentStats\""), std::string::npos);
+        ASSERT_EQ(cc_world_state_hash(world, &cHash), CC_OK);
+        cc_world_destroy(world);
+    }
+    {
+        WorldDesc wd;
+        wd.fixedCostModel = true;
+        World* world = World::create(wd).value();
+        const AssetId asset = world->addClothAsset({}).value();
+        CharacterDesc cd;
+        cd.body = world->addMannequinBody({}).value();
+        const CharacterId character = world->addCharacter(cd).value();
+        ASSERT_TRUE(world->addGarment(asset, character, {}).isOk());
+        ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
+        for (int f = 0; f < 30; ++f) ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+        cppHash = world->stateHash();
+        World::destroy(world);
+    }
+    EXPECT_EQ(cHash, cppHash);
+}
+
+TEST(CApi, BadCallsReturnStatusesNotCrashes) {
+    EXPECT_EQ(cc_world_step(nullptr, 1.0 / 60.0), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(cc_world_create(nullptr, nullptr), CC_INVALID_ARGUMENT);
+    cc_world_desc unstamped{};
+    cc_world* world = nullptr;
+    EXPECT_EQ(cc_world_create(&unstamped, &world), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(world, nullptr);
+    cc_world_desc_init(&unstamped);
+    unstamped.frame_budget_ms = -3.0;
+    EXPECT_EQ(cc_world_create(&unstamped, &world), CC_INVALID_ARGUMENT);
+
+    cc_world_desc wd;
+    cc_world_desc_init(&wd);
+    ASSERT_EQ(cc_world_create(&wd, &world), CC_OK);
+    cc_cloth_asset_desc ad{}; // not initialised
+    cc_asset_id asset{};
+    EXPECT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(cc_world_last_error(world)).find("_desc_init"), std::string::npos);
+    cc_cloth_asset_desc_init(&ad);
+    ad.cell_size = 0.0;
+    EXPECT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(cc_world_last_error(world)).find("cellSize"), std::string::npos);
+    cc_cloth_asset_desc_init(&ad);
+    ASSERT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_OK);
+
+    cc_mannequin_desc md;
+    cc_mannequin_desc_init(&md);
+    md.height = 7.0;
+    cc_body_id body{};
+    EXPECT_EQ(cc_world_add_mannequin_body(world, &md, &body), CC_INVALID_ARGUMENT);
+    cc_mannequin_desc_init(&md);
+    ASSERT_EQ(cc_world_add_mannequin_body(world, &md, &body), CC_OK);
+    cc_character_desc cd;
+    cc_character_desc_init(&cd);
+    cd.body = body;
+    cc_character_id character;
+    ASSERT_EQ(cc_world_add_character(world, &cd, &character), CC_OK);
+    const float vertices[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    EXPECT_EQ(cc_world_set_character_skinned_vertices(world, character, vertices, 3, 0), CC_INVALID_OPERATION);
+    cc_garment_desc gd;
+    cc_garment_desc_init(&gd);
+    cc_garment_id garment;
+    ASSERT_EQ(cc_world_add_garment(world, asset, character, &gd, &garment), CC_OK);
+    EXPECT_EQ(cc_world_step(world, -1.0), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(cc_world_set_cameras(world, nullptr, 2), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(cc_world_remove_garment(world, garment), CC_OK);
+    cc_render_mesh mesh;
+    EXPECT_EQ(cc_world_get_render_mesh(world, garment, &mesh), CC_INVALID_ARGUMENT) << "stale handle";
+    EXPECT_EQ(cc_world_remove_garment(world, garment), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(cc_world_add_garment(world, cc_asset_id{77, 1}, character, &gd, &garment), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(cc_world_get_frame_stats(world, nullptr), CC_INVALID_ARGUMENT);
+    EXPECT_EQ(cc_world_step(world, 1.0 / 60.0), CC_OK);
+    EXPECT_STREQ(cc_world_last_error(world), "");
+    cc_world_destroy(world);
+    cc_world_destroy(nullptr);
+}
+
+} // namespace
+} // namespace cc
