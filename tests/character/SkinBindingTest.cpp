@@ -129,6 +129,44 @@ TEST(SkinBinding, OffsetVerticesKeepTheirDistanceFromTheBody) {
     EXPECT_LT(worst, 1e-3) << "offset length changed under skinning";
 }
 
+TEST(SkinBinding, EvaluateSkinnedMatchesEvaluateAndFollowsHostSkinnedBodies) {
+    const Mannequin m = build();
+    const Character& ch = m.character;
+    const SkinnedMesh& body = ch.body;
+    Result<SkinBinding> binding = SkinBinding::bind(body, garmentPoints(m, 0.01));
+    ASSERT_TRUE(binding.isOk()) << binding.status().message();
+    const SkinBinding& b = binding.value();
+    const std::size_t n = b.size();
+    CharacterPose pose(ch);
+    ASSERT_TRUE(pose.evaluate(ch, ch.findClip("run"), 0.3, ClipWrap::Loop).isOk());
+    std::vector<Vec3> skinned(body.vertexCount()), skinnedNormals(body.vertexCount());
+    ASSERT_TRUE(skinVertices(body, pose.skinMatrices(), skinned, skinnedNormals).isOk());
+    std::vector<Vec3> t0(n), p0(n), n0(n), t1(n), p1(n), n1(n);
+    ASSERT_TRUE(b.evaluate(body, pose.skinMatrices(), t0, p0, n0).isOk());
+    ASSERT_TRUE(b.evaluateSkinned(body, skinned, skinnedNormals, pose.skinMatrices(), t1, p1, n1).isOk());
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_LT((t0[i] - t1[i]).norm(), 1e-12) << i;
+        ASSERT_LT((p0[i] - p1[i]).norm(), 1e-12) << i;
+        ASSERT_LT((n0[i] - n1[i]).norm(), 1e-12) << i;
+    }
+    // A host moves the whole bind-pose body rigidly (no skin matrices): targets move with it.
+    const Quat q(Eigen::AngleAxisd(0.9, Vec3(0.2, 1, 0.1).normalized()));
+    const Vec3 shift(3, 0.5, -2);
+    for (std::size_t v = 0; v < body.vertexCount(); ++v) {
+        skinned[v] = q * body.bindPositions[v] + shift;
+        skinnedNormals[v] = q * body.bindNormals[v];
+    }
+    ASSERT_TRUE(b.evaluateSkinned(body, skinned, skinnedNormals, {}, t1, p1, n1).isOk());
+    CharacterPose rest(ch);
+    ASSERT_TRUE(b.evaluate(body, rest.skinMatrices(), t0, p0, n0).isOk());
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_LT((t1[i] - (q * t0[i] + shift)).norm(), 1e-12) << i;
+        ASSERT_LT((n1[i] - q * n0[i]).norm(), 1e-12) << i;
+    }
+    std::vector<Vec3> wrong(3);
+    EXPECT_FALSE(b.evaluateSkinned(body, wrong, wrong, {}, t1, p1, n1).isOk());
+}
+
 TEST(SkinBinding, GridSearchFindsTheBruteForceClosestPoint) {
     const Mannequin m = build();
     const SkinnedMesh& body = m.character.body;

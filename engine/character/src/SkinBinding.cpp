@@ -229,20 +229,87 @@ Result<SkinBinding> SkinBinding::bind(const SkinnedMesh& body, Span<const Vec3> 
     return binding;
 }
 
-Status SkinBinding::evaluate(const SkinnedMesh& body, Span<const Mat4> skinMatrices, Span<Vec3> outTargets,
-                             Span<Vec3> outSurfacePoints, Span<Vec3> outSurfaceNormals) const {
+Status SkinBinding::checkSizes(const SkinnedMesh& body, Span<Vec3> outTargets, Span<Vec3> outSurfacePoints,
+                               Span<Vec3> outSurfaceNormals) const {
     const std::size_t n = mVertices.size();
     if (body.vertexCount() != mBodyVertexCount || body.triangles.size() != mBodyTriangleCount) {
-        return Status::invalidArgument("SkinBinding::evaluate: body has " + std::to_string(body.vertexCount()) +
+        return Status::invalidArgument("SkinBinding: body has " + std::to_string(body.vertexCount()) +
                                        " vertices, the binding was made on " + std::to_string(mBodyVertexCount));
-    }
-    if (skinMatrices.size() != body.inverseBindMatrices.size()) {
-        return Status::invalidArgument("SkinBinding::evaluate: " + std::to_string(skinMatrices.size()) +
-                                       " skin matrices for " + std::to_string(body.inverseBindMatrices.size()) + " joints");
     }
     if ((!outTargets.empty() && outTargets.size() != n) || (!outSurfacePoints.empty() && outSurfacePoints.size() != n) ||
         (!outSurfaceNormals.empty() && outSurfaceNormals.size() != n)) {
-        return Status::invalidArgument("SkinBinding::evaluate: output spans must be empty or have " + std::to_string(n) + " entries");
+        return Status::invalidArgument("SkinBinding: output spans must be empty or have " + std::to_string(n) + " entries");
+    }
+    return Status::ok();
+}
+
+namespace {
+
+// Orthonormal frame of a triangle: first edge, in-plane perpendicular, normal (as columns).
+Mat3 triangleFrame(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 e = (b - a).normalized();
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    Mat3 f;
+    f.col(0) = e;
+    f.col(1) = n.cross(e);
+    f.col(2) = n;
+    return f;
+}
+
+} // namespace
+
+Status SkinBinding::evaluateSkinned(const SkinnedMesh& body, Span<const Vec3> skinnedPositions,
+                                    Span<const Vec3> skinnedNormals, Span<const Mat4> skinMatrices,
+                                    Span<Vec3> outTargets, Span<Vec3> outSurfacePoints,
+                                    Span<Vec3> outSurfaceNormals) const {
+    Status s = checkSizes(body, outTargets, outSurfacePoints, outSurfaceNormals);
+    if (!s) return s;
+    if (skinnedPositions.size() != body.vertexCount() || skinnedNormals.size() != body.vertexCount()) {
+        return Status::invalidArgument("SkinBinding::evaluateSkinned: skinned arrays must have " +
+                                       std::to_string(body.vertexCount()) + " entries");
+    }
+    if (!skinMatrices.empty() && skinMatrices.size() != body.inverseBindMatrices.size()) {
+        return Status::invalidArgument("SkinBinding::evaluateSkinned: " + std::to_string(skinMatrices.size()) +
+                                       " skin matrices for " + std::to_string(body.inverseBindMatrices.size()) + " joints");
+    }
+    for (std::size_t i = 0; i < mVertices.size(); ++i) {
+        const BoundVertex& bv = mVertices[i];
+        const auto& tri = body.triangles[bv.triangle];
+        Vec3 point = Vec3::Zero(), normal = Vec3::Zero();
+        for (int c = 0; c < 3; ++c) {
+            point += bv.barycentric[static_cast<std::size_t>(c)] * skinnedPositions[tri[static_cast<std::size_t>(c)]];
+            normal += bv.barycentric[static_cast<std::size_t>(c)] * skinnedNormals[tri[static_cast<std::size_t>(c)]];
+        }
+        if (!outSurfacePoints.empty()) outSurfacePoints[i] = point;
+        if (!outSurfaceNormals.empty()) {
+            const double len = normal.norm();
+            outSurfaceNormals[i] = len > 0.0 ? Vec3(normal / len) : Vec3::UnitY();
+        }
+        if (outTargets.empty()) continue;
+        if (!skinMatrices.empty()) {
+            Mat3 a = Mat3::Zero();
+            for (int k = 0; k < kMaxInfluences; ++k) {
+                const double w = bv.weights[static_cast<std::size_t>(k)];
+                if (w != 0.0) a += w * skinMatrices[bv.joints[static_cast<std::size_t>(k)]].topLeftCorner<3, 3>();
+            }
+            outTargets[i] = point + a * bv.offset;
+        } else {
+            const Mat3 bindFrame = triangleFrame(body.bindPositions[tri[0]], body.bindPositions[tri[1]], body.bindPositions[tri[2]]);
+            const Mat3 frame = triangleFrame(skinnedPositions[tri[0]], skinnedPositions[tri[1]], skinnedPositions[tri[2]]);
+            outTargets[i] = point + frame * (bindFrame.transpose() * bv.offset);
+        }
+    }
+    return Status::ok();
+}
+
+Status SkinBinding::evaluate(const SkinnedMesh& body, Span<const Mat4> skinMatrices, Span<Vec3> outTargets,
+                             Span<Vec3> outSurfacePoints, Span<Vec3> outSurfaceNormals) const {
+    const std::size_t n = mVertices.size();
+    Status s = checkSizes(body, outTargets, outSurfacePoints, outSurfaceNormals);
+    if (!s) return s;
+    if (skinMatrices.size() != body.inverseBindMatrices.size()) {
+        return Status::invalidArgument("SkinBinding::evaluate: " + std::to_string(skinMatrices.size()) +
+                                       " skin matrices for " + std::to_string(body.inverseBindMatrices.size()) + " joints");
     }
     for (std::size_t i = 0; i < n; ++i) {
         const BoundVertex& bv = mVertices[i];

@@ -63,7 +63,20 @@ public:
     Status evaluate(const SkinnedMesh& body, Span<const Mat4> skinMatrices, Span<Vec3> outTargets,
                     Span<Vec3> outSurfacePoints, Span<Vec3> outSurfaceNormals) const;
 
+    /// The same outputs from a body already skinned this frame (positions and unit normals per
+    /// body vertex, e.g. from skinVertices() or handed in by a host): cheaper than evaluate() when
+    /// the body is skinned anyway. With skin matrices the result equals evaluate(); with an empty
+    /// skinMatrices span (host-skinned bodies) the bind offset is carried by the rotation that
+    /// takes the bound triangle's bind-pose frame to its current frame (exact for rigid motion).
+    Status evaluateSkinned(const SkinnedMesh& body, Span<const Vec3> skinnedPositions,
+                           Span<const Vec3> skinnedNormals, Span<const Mat4> skinMatrices,
+                           Span<Vec3> outTargets, Span<Vec3> outSurfacePoints,
+                           Span<Vec3> outSurfaceNormals) const;
+
 private:
+    Status checkSizes(const SkinnedMesh& body, Span<Vec3> outTargets, Span<Vec3> outSurfacePoints,
+                      Span<Vec3> outSurfaceNormals) const;
+
     std::vector<BoundVertex> mVertices;
     std::size_t mBodyVertexCount = 0;
     std::size_t mBodyTriangleCount = 0;
