@@ -45,8 +45,11 @@ struct BodyPart {
     uint32_t firstTriangle = 0, triangleCount = 0;
 };
 
-/// A collision proxy rigidly attached to a joint: the segment a-b in the joint's bind-space frame
-/// (skin matrix of the joint maps it to the posed body) swept by a sphere of `radius`.
+/// A collision proxy rigidly attached to a joint: the segment a-b swept by a sphere of `radius`.
+/// a and b are bind-space points: the posed capsule is skin[joint] * a .. skin[joint] * b (for
+/// joint-local end points use body.inverseBindMatrices[joint] * a). Fitted to the body part: the
+/// radius is the median distance of the part's vertices from its axis, and the caps reach the
+/// part's poles.
 struct BodyCapsule {
     int32_t joint = -1;
     Vec3 a = Vec3::Zero();   ///< [m] bind space
@@ -71,7 +74,15 @@ struct BodyLandmarks {
 };
 
 /// The generated mannequin: a Character (skeleton, body, clips "idle", "walk", "run") plus the
-/// body's part ranges, fitted capsules and landmarks.
+/// body's part ranges, fitted capsules and landmarks. Y up, metres, facing +Z, soles on y = 0;
+/// bind pose = rest pose (every joint rotation identity, arms lowered by armAbduction).
+///
+/// Clips are procedural gait cycles sampled at 40-48 keys per cycle, played in place: the last
+/// key repeats the first (seamless loop) and `rootVelocity` (0, 0, walkSpeed or runSpeed) is the
+/// locomotion a host adds. Periods: idle 4 s, walk 1.1 s and run 0.7 s (times sqrt(height/1.8)).
+/// The thigh swing is set so the stance foot moves back at about the locomotion speed. Measured
+/// world-space peak speeds at default parameters (MannequinTest): run hands 9.1 m/s, feet 11.9 m/s;
+/// walk hands 2.8 m/s, feet 3.6 m/s.
 ///
 /// Body surface: a union of closed parts (torso, neck, head, and per side upper arm, forearm,
 /// hand, thigh, shin, foot), each a watertight, 2-manifold, outward-oriented (CCW from outside)
