@@ -59,6 +59,23 @@ TEST(Adapt, RefinesAlongAFoldAndCoarsensAfterTheQuietFrames) {
     EXPECT_EQ(h.activeVertexCount(), 25u);  // back to the base grid
 }
 
+TEST(Adapt, SameInputGivesTheSameMesh) {
+    RefinementSettings criteria;
+    criteria.maxDihedralAngle = 0.2;
+    criteria.vertexBudget = 200;
+    std::vector<std::vector<uint32_t>> meshes;
+    for (int run = 0; run < 2; ++run) {
+        auto h = GarmentHierarchy::create(GarmentPattern::dress(0.6, 0.9, 0.15).value(), HierarchySettings{}).value();
+        for (int frame = 0; frame < 6; ++frame) {
+            fold(h, 0.3 * frame);
+            ASSERT_TRUE(h.adapt(criteria, {}).isOk());
+        }
+        meshes.push_back(h.activeTriangles());
+        EXPECT_LE(h.activeVertexCount(), 200u + 20u);
+    }
+    EXPECT_EQ(meshes[0], meshes[1]);
+}
+
 TEST(Adapt, VertexBudgetAndProximityAndView) {
     auto h = GarmentHierarchy::create(GarmentPattern::cape(1.0, 1.0, 0.25).value(), HierarchySettings{}).value();
     RefinementSettings criteria;

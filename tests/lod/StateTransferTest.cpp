@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "crowdcloth/cloth/ClothTopology.h"
 #include "lod/LodSimulation.h"
 
 namespace cc::lod {
@@ -97,6 +98,9 @@ TEST(StateTransfer, SeamAndWrapCopiesConserveMassAndMomentum) {
         ASSERT_TRUE(active.mesh.validate()) << active.mesh.validate().message();
         EXPECT_FALSE(active.welds.empty());
         EXPECT_EQ(active.simToVertex.size(), h.activeVertexCount() + active.welds.size());
+        // The solver lumps the same masses from the exported mesh.
+        const std::vector<double> lumped = cloth::lumpedMasses(active.mesh, 0.15);
+        for (std::size_t i = 0; i < lumped.size(); ++i) ASSERT_NEAR(lumped[i], active.masses[i], 1e-15) << i;
         double mass = 0.0;
         for (double m : active.masses) mass += m;
         EXPECT_NEAR(mass, h.totalMass(), 1e-15);
