@@ -1,0 +1,433 @@
+#include "crowdcloth/collision/SelfCollision.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace cc::collision {
+
+namespace {
+
+/// Pairs closer than this at the start of the step already touch: no normal or side can be told,
+/// so they are left alone (x0 is assumed free of contact).
+constexpr double kTouching = 1e-12;  // [m]
+
+std::string vertexName(std::size_t v) { return "vertex " + std::to_string(v); }
+
+} // namespace
+
+Status SelfCollisionSettings::validate() const {
+    if (!(thickness > 0.0) || !std::isfinite(thickness)) {
+        return Status::invalidArgument("SelfCollisionSettings.thickness must be finite and > 0, got " +
+                                       std::to_string(thickness));
+    }
+    if (!(repulsionFraction >= 0.0 && repulsionFraction <= 1.0)) {
+        return Status::invalidArgument("SelfCollisionSettings.repulsionFraction must be in [0, 1], got " +
+                                       std::to_string(repulsionFraction));
+    }
+    if (!(ccdGap > 0.0 && ccdGap <= thickness)) {
+        return Status::invalidArgument("SelfCollisionSettings.ccdGap must be in (0, thickness], got " +
+                                       std::to_string(ccdGap));
+    }
+    if (impulseIterations < 1) {
+        return Status::invalidArgument("SelfCollisionSettings.impulseIterations must be >= 1, got " +
+                                       std::to_string(impulseIterations));
+    }
+    if (zoneIterations < 1) {
+        return Status::invalidArgument("SelfCollisionSettings.zoneIterations must be >= 1, got " +
+                                       std::to_string(zoneIterations));
+    }
+    return Status::ok();
+}
+
+Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> triangles, uint32_t vertexCount,
+                                            const SelfCollisionSettings& settings) {
+    Status valid = settings.validate();
+    if (!valid.isOk()) return valid;
+    SelfCollision self;
+    self.mSettings = settings;
+    self.mVertexCount = vertexCount;
+    self.mTriangles.assign(triangles.begin(), triangles.end());
+    std::vector<std::array<uint32_t, 3>> halfEdges;  // (a, b, triangle * 3 + slot) with a < b
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const auto& tri = triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            if (tri[k] >= vertexCount) {
+                return Status::invalidArgument("SelfCollision: triangle " + std::to_string(t) + " references " +
+                                               vertexName(tri[k]) + " of " + std::to_string(vertexCount));
+            }
+        }
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
+            return Status::invalidArgument("SelfCollision: triangle " + std::to_string(t) + " repeats a vertex");
+        }
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = tri[k], b = tri[(k + 1) % 3];
+            halfEdges.push_back({std::min(a, b), std::max(a, b), static_cast<uint32_t>(t * 3 + k)});
+        }
+    }
+    std::sort(halfEdges.begin(), halfEdges.end());
+    self.mTriangleEdges.assign(triangles.size(), {0, 0, 0});
+    for (const auto& h : halfEdges) {
+        if (self.mEdges.empty() || self.mEdges.back()[0] != h[0] || self.mEdges.back()[1] != h[1]) {
+            self.mEdges.push_back({h[0], h[1]});
+        }
+        self.mTriangleEdges[h[2] / 3][h[2] % 3] = static_cast<uint32_t>(self.mEdges.size() - 1);
+    }
+    return self;
+}
+
+void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                               std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                               std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    outVertexTriangle.clear();
+    outEdgeEdge.clear();
+    // Triangle boxes swept over the step and grown by the margin; a vertex or edge box overlaps one
+    // whenever their L-infinity gap, hence their distance, can be below the margin.
+    mBoxes.resize(mTriangles.size());
+    for (std::size_t t = 0; t < mTriangles.size(); ++t) {
+        Aabb box;
+        for (uint32_t v : mTriangles[t]) {
+            box.grow(x0[v]);
+            box.grow(x1[v]);
+        }
+        box.inflate(margin);
+        mBoxes[t] = box;
+    }
+    if (mBvhBuilt) {
+        mBvh.refit(mBoxes);
+    } else {
+        mBvh.build(mBoxes);
+        mBvhBuilt = true;
+    }
+    std::vector<uint32_t> hits;
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        Aabb box;
+        box.grow(x0[v]);
+        box.grow(x1[v]);
+        hits.clear();
+        mBvh.query(box, hits);
+        for (uint32_t t : hits) {
+            const auto& tri = mTriangles[t];
+            if (tri[0] != v && tri[1] != v && tri[2] != v) outVertexTriangle.push_back({v, t});
+        }
+    }
+    std::vector<Aabb> edgeBoxes(mEdges.size());
+    for (std::size_t e = 0; e < mEdges.size(); ++e) {
+        Aabb box;
+        for (uint32_t v : mEdges[e]) {
+            box.grow(x0[v]);
+            box.grow(x1[v]);
+        }
+        edgeBoxes[e] = box;
+    }
+    for (uint32_t e = 0; e < mEdges.size(); ++e) {
+        hits.clear();
+        mBvh.query(edgeBoxes[e], hits);
+        for (uint32_t t : hits) {
+            for (uint32_t f : mTriangleEdges[t]) {
+                if (f <= e) continue;
+                const auto& a = mEdges[e];
+                const auto& b = mEdges[f];
+                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+                Aabb grown = edgeBoxes[f];
+                grown.inflate(margin);
+                if (grown.overlaps(edgeBoxes[e])) outEdgeEdge.push_back({e, f});
+            }
+        }
+    }
+    // Sorted and unique: an edge pair is found through every triangle that holds the second edge.
+    std::sort(outVertexTriangle.begin(), outVertexTriangle.end());
+    std::sort(outEdgeEdge.begin(), outEdgeEdge.end());
+    outEdgeEdge.erase(std::unique(outEdgeEdge.begin(), outEdgeEdge.end()), outEdgeEdge.end());
+}
+
+namespace {
+
+/// A pair as signed weights on its 4 vertices: separation = sum w_i x_i points from the triangle
+/// (edge cd) to the vertex (edge ab).
+struct PairGeometry {
+    std::array<uint32_t, 4> vertices;
+    std::array<double, 4> weights;
+};
+
+PairGeometry vertexTrianglePair(uint32_t v, const std::array<uint32_t, 3>& tri, const std::array<double, 3>& w) {
+    return {{v, tri[0], tri[1], tri[2]}, {1.0, -w[0], -w[1], -w[2]}};
+}
+
+PairGeometry edgeEdgePair(const std::array<uint32_t, 2>& a, const std::array<uint32_t, 2>& b, double s, double u) {
+    return {{a[0], a[1], b[0], b[1]}, {1.0 - s, s, -(1.0 - u), -u}};
+}
+
+Vec3 separation(const PairGeometry& g, Span<const Vec3> x) {
+    Vec3 d = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) d += g.weights[i] * x[g.vertices[i]];
+    return d;
+}
+
+} // namespace
+
+void SelfCollision::applyImpulse(const Collision& c, Span<const Vec3> x0, Span<Vec3> x1) const {
+    double approach = 0.0, denominator = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        approach += c.weights[i] * (x1[c.vertices[i]] - x0[c.vertices[i]]).dot(c.normal);
+        denominator += c.weights[i] * c.weights[i] * mInvMass[c.vertices[i]];
+    }
+    // Inelastic: cancel the relative normal motion of an approaching pair (Bridson et al. 2002, 7.1),
+    // shared by inverse mass so that pinned vertices keep their motion.
+    if (approach >= 0.0 || denominator <= 0.0) return;
+    const double lambda = -approach / denominator;
+    for (int i = 0; i < 4; ++i) {
+        x1[c.vertices[i]] += (lambda * c.weights[i] * mInvMass[c.vertices[i]]) * c.normal;
+    }
+}
+
+void SelfCollision::applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfCollisionStats& stats) {
+    std::vector<std::array<uint32_t, 2>> vf, ee;
+    const double h = mSettings.thickness;
+    candidates(x0, x0, h, vf, ee);
+    // Repulsion from the start-of-step geometry, whose side of each pair is trusted: the pair's
+    // relative normal motion over the step must recover `repulsionFraction` of the overlap
+    // (Bridson et al. 2002, 7.2, in position form), which also stops approaching pairs.
+    auto respond = [&](const PairGeometry& g) {
+        const Vec3 d = separation(g, x0);
+        const double gap = d.norm();
+        if (gap >= h || gap <= kTouching) return;
+        ++stats.proximityPairs;
+        const Vec3 n = d / gap;
+        double motion = 0.0, denominator = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            motion += g.weights[i] * (x1[g.vertices[i]] - x0[g.vertices[i]]).dot(n);
+            denominator += g.weights[i] * g.weights[i] * mInvMass[g.vertices[i]];
+        }
+        const double target = mSettings.repulsionFraction * (h - gap);
+        if (motion >= target || denominator <= 0.0) return;
+        ++stats.repulsions;
+        const double lambda = (target - motion) / denominator;
+        for (int i = 0; i < 4; ++i) x1[g.vertices[i]] += (lambda * g.weights[i] * mInvMass[g.vertices[i]]) * n;
+    };
+    for (const auto& pair : vf) {
+        const auto& tri = mTriangles[pair[1]];
+        const std::array<double, 3> w = closestTriangleWeights(x0[pair[0]], x0[tri[0]], x0[tri[1]], x0[tri[2]]);
+        respond(vertexTrianglePair(pair[0], tri, w));
+    }
+    for (const auto& pair : ee) {
+        const auto& a = mEdges[pair[0]];
+        const auto& b = mEdges[pair[1]];
+        const std::array<double, 2> su = closestSegmentParameters(x0[a[0]], x0[a[1]], x0[b[0]], x0[b[1]]);
+        respond(edgeEdgePair(a, b, su[0], su[1]));
+    }
+}
+
+void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
+                                   SelfCollisionStats& stats) {
+    std::vector<std::array<uint32_t, 2>> vf, ee;
+    candidates(x0, x1, mSettings.ccdGap, vf, ee);
+    const std::size_t total = vf.size() + ee.size();
+    std::vector<Collision> found(total);
+    std::vector<uint8_t> status(total, 0);  // 0 none, 1 contact, 2 contact with capped search
+    parallelFor(static_cast<int64_t>(total), mSettings.parallel, [&](int64_t begin, int64_t end) {
+        for (int64_t k = begin; k < end; ++k) {
+            const bool isVf = static_cast<std::size_t>(k) < vf.size();
+            std::array<uint32_t, 4> ids;
+            if (isVf) {
+                const auto& pair = vf[k];
+                const auto& tri = mTriangles[pair[1]];
+                ids = {pair[0], tri[0], tri[1], tri[2]};
+            } else {
+                const auto& pair = ee[k - vf.size()];
+                ids = {mEdges[pair[0]][0], mEdges[pair[0]][1], mEdges[pair[1]][0], mEdges[pair[1]][1]};
+            }
+            bool moving = false;
+            for (uint32_t v : ids) moving = moving || x1[v] != x0[v];
+            if (!moving) continue;  // a pair that does not move cannot start to cross
+            std::array<Vec3, 4> start, finish;
+            for (int i = 0; i < 4; ++i) {
+                start[i] = x0[ids[i]];
+                finish[i] = x1[ids[i]];
+            }
+            double gap0;
+            if (isVf) {
+                const auto w = closestTriangleWeights(start[0], start[1], start[2], start[3]);
+                gap0 = (start[0] - w[0] * start[1] - w[1] * start[2] - w[2] * start[3]).norm();
+            } else {
+                const auto su = closestSegmentParameters(start[0], start[1], start[2], start[3]);
+                gap0 = (start[0] + su[0] * (start[1] - start[0]) - start[2] - su[1] * (start[3] - start[2])).norm();
+            }
+            if (gap0 <= kTouching) continue;
+            // Keep at least half the start gap: then a rigid motion of the pair (an impact zone)
+            // is never reported, since the L-infinity test sees at least gap0 / sqrt(3) > gap0 / 2.
+            CcdSettings ccd;
+            ccd.thickness = std::min(mSettings.ccdGap, 0.5 * gap0);
+            ccd.distanceTolerance = std::min(ccd.distanceTolerance, 0.05 * ccd.thickness);
+            CcdHit hit;
+            const CcdOutcome outcome =
+                isVf ? vertexTriangleCcd(start, finish, ccd, hit) : edgeEdgeCcd(start, finish, ccd, hit);
+            if (outcome != CcdOutcome::Contact) continue;
+            Collision& c = found[k];
+            c.vertices = ids;
+            c.normal = hit.normal;
+            if (isVf) {
+                c.weights = {1.0, -hit.weights[0], -hit.weights[1], -hit.weights[2]};
+            } else {
+                const double s = hit.weights[0], u = hit.weights[1];
+                c.weights = {1.0 - s, s, -(1.0 - u), -u};
+            }
+            status[k] = hit.capped ? 2 : 1;
+        }
+    });
+    stats.ccdTests += static_cast<uint32_t>(total);
+    outCollisions.clear();
+    for (std::size_t k = 0; k < total; ++k) {
+        if (status[k] == 0) continue;
+        if (status[k] == 2) ++stats.cappedTests;
+        outCollisions.push_back(found[k]);
+    }
+}
+
+void SelfCollision::rigidifyZones(Span<const Vec3> x0, Span<Vec3> x1, const std::vector<Collision>& collisions,
+                                  SelfCollisionStats& stats) {
+    auto find = [this](uint32_t v) {
+        while (mZoneParent[v] != v) {
+            mZoneParent[v] = mZoneParent[mZoneParent[v]];
+            v = mZoneParent[v];
+        }
+        return v;
+    };
+    for (const Collision& c : collisions) {
+        for (int i = 0; i < 4; ++i) {
+            mInZone[c.vertices[i]] = 1;
+            const uint32_t a = find(c.vertices[0]), b = find(c.vertices[i]);
+            if (a != b) mZoneParent[std::max(a, b)] = std::min(a, b);  // smallest index is the root
+        }
+    }
+    // Members grouped by root, in vertex order: the zones and their sums do not depend on threads.
+    std::vector<std::array<uint32_t, 2>> members;  // (root, vertex)
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        if (mInZone[v]) members.push_back({find(v), v});
+    }
+    std::sort(members.begin(), members.end());
+    stats.impactZones = 0;
+    stats.zoneVertices = static_cast<uint32_t>(members.size());
+    for (std::size_t begin = 0; begin < members.size();) {
+        std::size_t end = begin;
+        while (end < members.size() && members[end][0] == members[begin][0]) ++end;
+        ++stats.impactZones;
+        // Rigid motion of the zone with its linear and angular momentum over the step (Provot
+        // 1997; Bridson et al. 2002, 7.4). Pinned members fix the zone to their own motion.
+        Vec3 pinnedMotion = Vec3::Zero();
+        int pinned = 0;
+        double mass = 0.0;
+        Vec3 centre = Vec3::Zero(), motion = Vec3::Zero();
+        for (std::size_t k = begin; k < end; ++k) {
+            const uint32_t v = members[k][1];
+            if (mInvMass[v] == 0.0) {
+                pinnedMotion += x1[v] - x0[v];
+                ++pinned;
+                continue;
+            }
+            const double m = 1.0 / mInvMass[v];
+            mass += m;
+            centre += m * x0[v];
+            motion += m * (x1[v] - x0[v]);
+        }
+        if (pinned > 0) {
+            // No rigid motion fits pins that move apart; the pins' mean motion is the closest.
+            const Vec3 shift = pinnedMotion / pinned;
+            for (std::size_t k = begin; k < end; ++k) {
+                const uint32_t v = members[k][1];
+                if (mInvMass[v] != 0.0) x1[v] = x0[v] + shift;
+            }
+            begin = end;
+            continue;
+        }
+        centre /= mass;
+        motion /= mass;
+        Vec3 angular = Vec3::Zero();
+        Mat3 inertia = Mat3::Zero();
+        for (std::size_t k = begin; k < end; ++k) {
+            const uint32_t v = members[k][1];
+            const double m = 1.0 / mInvMass[v];
+            const Vec3 r = x0[v] - centre;
+            angular += m * r.cross(x1[v] - x0[v] - motion);
+            inertia += m * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+        }
+        // Collinear members have a singular inertia: the tiny shift keeps the solve finite and
+        // leaves the spin about their common line at zero.
+        const double trace = inertia.trace();
+        const Mat3 regularised = inertia + (1e-9 * trace + 1e-300) * Mat3::Identity();
+        const Vec3 rotation = regularised.inverse() * angular;  // [rad] rotation vector over the step
+        const double angle = rotation.norm();
+        const Mat3 spin = angle > 0.0 ? Mat3(Eigen::AngleAxisd(angle, rotation / angle)) : Mat3::Identity();
+        for (std::size_t k = begin; k < end; ++k) {
+            const uint32_t v = members[k][1];
+            x1[v] = centre + motion + spin * (x0[v] - centre);
+        }
+        begin = end;
+    }
+}
+
+Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const double> masses,
+                              SelfCollisionStats& outStats) {
+    outStats = SelfCollisionStats{};
+    if (x0.size() != mVertexCount || x1.size() != mVertexCount || masses.size() != mVertexCount) {
+        return Status::invalidArgument("SelfCollision::resolve: expected " + std::to_string(mVertexCount) +
+                                       " positions and masses, got x0 " + std::to_string(x0.size()) + ", x1 " +
+                                       std::to_string(x1.size()) + ", masses " + std::to_string(masses.size()));
+    }
+    mInvMass.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        if (!isFinite(x0[v]) || !isFinite(x1[v])) {
+            return Status::invalidArgument("SelfCollision::resolve: non-finite position at " + vertexName(v));
+        }
+        const double m = masses[v];
+        if (!(m >= 0.0)) {
+            return Status::invalidArgument("SelfCollision::resolve: mass of " + vertexName(v) +
+                                           " must be >= 0 (0 or inf = pinned), got " + std::to_string(m));
+        }
+        mInvMass[v] = (m == 0.0 || std::isinf(m)) ? 0.0 : 1.0 / m;
+    }
+    SelfCollisionStats& stats = outStats;
+    const Span<const Vec3> x1View(x1.data(), x1.size());
+    applyProximity(x0, x1, stats);
+
+    std::vector<Collision> collisions;
+    findCollisions(x0, x1View, collisions, stats);
+    stats.firstPassCollisions = static_cast<uint32_t>(collisions.size());
+    for (int iteration = 0; iteration < mSettings.impulseIterations && !collisions.empty(); ++iteration) {
+        ++stats.impulseIterations;
+        for (const Collision& c : collisions) applyImpulse(c, x0, x1);
+        findCollisions(x0, x1View, collisions, stats);
+    }
+    if (collisions.empty()) return Status::ok();
+
+    // Fail-safe: rigid impact zones, merged as new collisions appear.
+    stats.failSafeActivations = 1;
+    mZoneParent.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) mZoneParent[v] = v;
+    mInZone.assign(mVertexCount, 0);
+    for (int iteration = 0; iteration < mSettings.zoneIterations && !collisions.empty(); ++iteration) {
+        ++stats.zoneIterations;
+        rigidifyZones(x0, x1, collisions, stats);
+        findCollisions(x0, x1View, collisions, stats);
+    }
+    // Last resort: hold the vertices of what still collides at x0, which was free of intersections.
+    std::vector<uint8_t> stopped(mVertexCount, 0);
+    while (!collisions.empty()) {
+        bool progress = false;
+        for (const Collision& c : collisions) {
+            for (uint32_t v : c.vertices) {
+                if (mInvMass[v] == 0.0 || stopped[v]) continue;
+                stopped[v] = 1;
+                x1[v] = x0[v];
+                ++stats.stoppedVertices;
+                progress = true;
+            }
+        }
+        if (!progress) break;
+        findCollisions(x0, x1View, collisions, stats);
+    }
+    stats.unresolved = static_cast<uint32_t>(collisions.size());
+    return Status::ok();
+}
+
+} // namespace cc::collision
