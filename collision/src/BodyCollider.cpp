@@ -1,0 +1,510 @@
+#include "crowdcloth/collision/BodyCollider.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "crowdcloth/collision/Ccd.h"
+#include "crowdcloth/core/ParallelFor.h"
+#include "EmbreeDevice.h"
+#include "TriangleFeatures.h"
+
+namespace cc::collision {
+
+using detail::ClosestPoint;
+using detail::Feature;
+
+Status BodyColliderSettings::validate() const {
+    if (!(rebuildFraction > 0.0 && rebuildFraction <= 100.0)) {
+        return Status::invalidArgument("BodyColliderSettings.rebuildFraction = " + std::to_string(rebuildFraction) +
+                                       " is outside (0, 100]");
+    }
+    if (!(degenerateArea >= 0.0 && degenerateArea <= 0.1)) {
+        return Status::invalidArgument("BodyColliderSettings.degenerateArea = " + std::to_string(degenerateArea) +
+                                       " is outside [0, 0.1]");
+    }
+    return Status::ok();
+}
+
+struct BodyCollider::Impl {
+    CollisionDevice* device = nullptr;
+    BodyColliderSettings settings;
+    std::vector<std::array<uint32_t, 3>> triangles;
+    std::vector<Vec3> current, previous, velocity, buildPose;
+    double buildDiagonal = 0.0;
+
+    // Pseudonormals of the current pose (Baerentzen & Aanaes 2005): unit face normals, angle-weighted
+    // vertex normals, and per triangle edge the sum of the face normals sharing that edge.
+    std::vector<Vec3> faceNormal, vertexNormal, edgeNormal;
+    std::vector<uint8_t> degenerate;
+    // Triangle-edge slots (3 t + k) grouped by undirected edge: slots of group g are
+    // edgeSlots[edgeStart[g] .. edgeStart[g + 1]).
+    std::vector<uint32_t> edgeSlots, edgeStart;
+
+    RTCScene scene = nullptr;       // current pose, refit each update
+    RTCGeometry mesh = nullptr;
+    RTCScene swept = nullptr;       // one user primitive per triangle: bounds of its motion
+    RTCGeometry sweptGeometry = nullptr;
+    BodyColliderStats stats;
+
+    ~Impl() { releaseScenes(); }
+    void releaseScenes() {
+        if (scene) rtcReleaseScene(scene);
+        if (swept) rtcReleaseScene(swept);
+        scene = swept = nullptr;
+        mesh = sweptGeometry = nullptr;
+    }
+
+    Status checkPose(Span<const Vec3> positions, const char* what) const;
+    void computeNormals();
+    Status buildScenes();
+    void writeVertexBuffer();
+    Status refit();
+    Status buildSwept();
+    Vec3 pseudonormal(uint32_t t, Feature f) const;
+};
+
+namespace {
+
+uint64_t edgeKey(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+// Embree's float boxes may miss a double triangle by a rounding error: queries are widened by this
+// relative amount (plus an absolute floor) and the exact test runs in double.
+constexpr double kFloatSlack = 1e-5;
+
+float widen(double radius, double scale) { return float(radius * (1.0 + kFloatSlack) + kFloatSlack * scale + 1e-7); }
+
+void sweptBounds(const RTCBoundsFunctionArguments* args) {
+    const auto* impl = static_cast<const BodyCollider::Impl*>(args->geometryUserPtr);
+    const auto& tri = impl->triangles[args->primID];
+    Eigen::AlignedBox3d box;
+    for (uint32_t v : tri) {
+        box.extend(impl->previous[v]);
+        box.extend(impl->current[v]);
+    }
+    const double pad = kFloatSlack * (box.diagonal().norm() + 1.0);
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = float(box.min().x() - pad), b->lower_y = float(box.min().y() - pad), b->lower_z = float(box.min().z() - pad);
+    b->upper_x = float(box.max().x() + pad), b->upper_y = float(box.max().y() + pad), b->upper_z = float(box.max().z() + pad);
+}
+
+} // namespace
+
+Status BodyCollider::Impl::checkPose(Span<const Vec3> positions, const char* what) const {
+    if (positions.size() != current.size()) {
+        return Status::invalidArgument(std::string(what) + ": got " + std::to_string(positions.size()) +
+                                       " body vertices, the body has " + std::to_string(current.size()));
+    }
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        if (!isFinite(positions[i])) {
+            return Status::invalidArgument(std::string(what) + ": body vertex " + std::to_string(i) +
+                                           " has a non-finite position");
+        }
+    }
+    return Status::ok();
+}
+
+void BodyCollider::Impl::computeNormals() {
+    const uint32_t nt = uint32_t(triangles.size());
+    std::fill(vertexNormal.begin(), vertexNormal.end(), Vec3::Zero());
+    stats.degenerateTriangles = 0;
+    for (uint32_t t = 0; t < nt; ++t) {
+        const auto& tri = triangles[t];
+        const Vec3 e[3] = {current[tri[1]] - current[tri[0]], current[tri[2]] - current[tri[1]],
+                           current[tri[0]] - current[tri[2]]};
+        const Vec3 cross = e[0].cross(-e[2]);
+        const double longest2 = std::max({e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()});
+        const bool bad = !(0.5 * cross.norm() > settings.degenerateArea * longest2) || longest2 == 0.0;
+        degenerate[t] = bad;
+        if (bad) {
+            ++stats.degenerateTriangles;
+            faceNormal[t].setZero();
+            continue;
+        }
+        faceNormal[t] = cross.normalized();
+        for (int k = 0; k < 3; ++k) {
+            // Interior angle at vertex k, between the edges leaving it.
+            const Vec3 u = e[k], w = -e[(k + 2) % 3];
+            const double angle = std::atan2(u.cross(w).norm(), u.dot(w));
+            vertexNormal[tri[k]] += angle * faceNormal[t];
+        }
+    }
+    for (std::size_t g = 0; g + 1 < edgeStart.size(); ++g) {
+        Vec3 sum = Vec3::Zero();
+        for (uint32_t s = edgeStart[g]; s < edgeStart[g + 1]; ++s) sum += faceNormal[edgeSlots[s] / 3];
+        for (uint32_t s = edgeStart[g]; s < edgeStart[g + 1]; ++s) edgeNormal[edgeSlots[s]] = sum;
+    }
+}
+
+Vec3 BodyCollider::Impl::pseudonormal(uint32_t t, Feature f) const {
+    switch (f) {
+    case Feature::Face: return faceNormal[t];
+    case Feature::Vertex0: return vertexNormal[triangles[t][0]];
+    case Feature::Vertex1: return vertexNormal[triangles[t][1]];
+    case Feature::Vertex2: return vertexNormal[triangles[t][2]];
+    case Feature::Edge0: return edgeNormal[3 * t + 0];
+    case Feature::Edge1: return edgeNormal[3 * t + 1];
+    case Feature::Edge2: return edgeNormal[3 * t + 2];
+    }
+    return faceNormal[t];
+}
+
+void BodyCollider::Impl::writeVertexBuffer() {
+    auto* buffer = static_cast<float*>(rtcGetGeometryBufferData(mesh, RTC_BUFFER_TYPE_VERTEX, 0));
+    for (std::size_t i = 0; i < current.size(); ++i) {
+        buffer[3 * i + 0] = float(current[i].x());
+        buffer[3 * i + 1] = float(current[i].y());
+        buffer[3 * i + 2] = float(current[i].z());
+    }
+}
+
+Status BodyCollider::Impl::buildScenes() {
+    detail::ScopedFlushDenormals ftz;
+    releaseScenes();
+    RTCDevice dev = device->impl().device;
+    scene = rtcNewScene(dev);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
+    mesh = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(mesh, RTC_BUILD_QUALITY_REFIT);
+    // rtcSetNewGeometryBuffer pads the buffer for Embree's 16-byte loads (ECOSYSTEM.md pitfall 2).
+    auto* index = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                  3 * sizeof(uint32_t), triangles.size()));
+    const bool gotVertexBuffer = rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), current.size()) != nullptr;
+    if (!index || !gotVertexBuffer) {
+        Status e = device->takeError();
+        return Status::error(StatusCode::InvalidOperation, "BodyCollider: could not allocate Embree buffers (" +
+                                                               e.message() + ")");
+    }
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        for (int k = 0; k < 3; ++k) index[3 * t + k] = triangles[t][k];
+    }
+    writeVertexBuffer();
+    rtcCommitGeometry(mesh);
+    rtcAttachGeometryByID(scene, mesh, 0);
+    rtcCommitScene(scene);
+
+    swept = rtcNewScene(dev);
+    rtcSetSceneBuildQuality(swept, RTC_BUILD_QUALITY_LOW);
+    sweptGeometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(sweptGeometry, uint32_t(triangles.size()));
+    rtcSetGeometryUserData(sweptGeometry, this);
+    rtcSetGeometryBoundsFunction(sweptGeometry, sweptBounds, nullptr);
+    rtcCommitGeometry(sweptGeometry);
+    rtcAttachGeometryByID(swept, sweptGeometry, 0);
+    rtcCommitScene(swept);
+
+    buildPose = current;
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : current) box.extend(p);
+    buildDiagonal = box.diagonal().norm();
+    ++stats.rebuilds;
+    if (Status e = device->takeError(); !e) return e;
+    return Status::ok();
+}
+
+Status BodyCollider::Impl::refit() {
+    double moved = 0.0;
+    for (std::size_t i = 0; i < current.size(); ++i) moved += (current[i] - buildPose[i]).norm();
+    moved /= double(current.size());
+    if (moved > settings.rebuildFraction * buildDiagonal) return buildScenes();
+
+    detail::ScopedFlushDenormals ftz;
+    // The refit workflow (ECOSYSTEM.md pitfall 3): write, mark updated, commit geometry and scene.
+    writeVertexBuffer();
+    rtcUpdateGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(mesh);
+    rtcCommitScene(scene);
+    // The swept boxes change shape every frame: their (small, low-quality) tree is rebuilt.
+    rtcCommitGeometry(sweptGeometry);
+    rtcCommitScene(swept);
+    ++stats.refits;
+    return device->takeError();
+}
+
+Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& device,
+                                                           Span<const std::array<uint32_t, 3>> triangles,
+                                                           Span<const Vec3> positions,
+                                                           const BodyColliderSettings& settings) {
+    if (Status s = settings.validate(); !s) return s;
+    if (triangles.empty()) return Status::invalidArgument("BodyCollider: the body has zero triangles");
+    if (positions.empty()) return Status::invalidArgument("BodyCollider: the body has zero vertices");
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            if (triangles[t][k] >= positions.size()) {
+                return Status::invalidArgument("BodyCollider: triangle " + std::to_string(t) + " corner " +
+                                               std::to_string(k) + " indexes vertex " +
+                                               std::to_string(triangles[t][k]) + ", out of range (body has " +
+                                               std::to_string(positions.size()) + " vertices)");
+            }
+        }
+    }
+    auto impl = std::make_unique<Impl>();
+    impl->device = &device;
+    impl->settings = settings;
+    impl->triangles.assign(triangles.begin(), triangles.end());
+    impl->current.assign(positions.size(), Vec3::Zero());
+    if (Status s = impl->checkPose(positions, "BodyCollider::create"); !s) return s;
+    impl->current.assign(positions.begin(), positions.end());
+    impl->previous = impl->current;
+    impl->velocity.assign(positions.size(), Vec3::Zero());
+
+    const uint32_t nt = uint32_t(triangles.size());
+    impl->faceNormal.assign(nt, Vec3::Zero());
+    impl->edgeNormal.assign(3 * std::size_t(nt), Vec3::Zero());
+    impl->vertexNormal.assign(positions.size(), Vec3::Zero());
+    impl->degenerate.assign(nt, 0);
+    std::vector<std::pair<uint64_t, uint32_t>> keyed;
+    keyed.reserve(3 * std::size_t(nt));
+    for (uint32_t t = 0; t < nt; ++t) {
+        for (uint32_t k = 0; k < 3; ++k) keyed.push_back({edgeKey(triangles[t][k], triangles[t][(k + 1) % 3]), 3 * t + k});
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+        if (i == 0 || keyed[i].first != keyed[i - 1].first) impl->edgeStart.push_back(uint32_t(i));
+        impl->edgeSlots.push_back(keyed[i].second);
+    }
+    impl->edgeStart.push_back(uint32_t(keyed.size()));
+    impl->computeNormals();
+    if (Status s = impl->buildScenes(); !s) return s;
+    return std::unique_ptr<BodyCollider>(new BodyCollider(std::move(impl)));
+}
+
+BodyCollider::BodyCollider(std::unique_ptr<Impl> impl) : mImpl(std::move(impl)) {}
+BodyCollider::~BodyCollider() = default;
+
+Status BodyCollider::update(Span<const Vec3> positions, double dt) {
+    if (!(dt > 0.0) || !std::isfinite(dt)) {
+        return Status::invalidArgument("BodyCollider::update: dt = " + std::to_string(dt) + " s must be finite and > 0");
+    }
+    if (Status s = mImpl->checkPose(positions, "BodyCollider::update"); !s) return s;
+    Impl& m = *mImpl;
+    m.previous.swap(m.current);
+    m.current.assign(positions.begin(), positions.end());
+    for (std::size_t i = 0; i < m.current.size(); ++i) m.velocity[i] = (m.current[i] - m.previous[i]) / dt;
+    m.computeNormals();
+    return m.refit();
+}
+
+Status BodyCollider::reset(Span<const Vec3> positions) {
+    if (Status s = mImpl->checkPose(positions, "BodyCollider::reset"); !s) return s;
+    Impl& m = *mImpl;
+    m.current.assign(positions.begin(), positions.end());
+    m.previous = m.current;
+    std::fill(m.velocity.begin(), m.velocity.end(), Vec3::Zero());
+    m.computeNormals();
+    return m.buildScenes();
+}
+
+uint32_t BodyCollider::vertexCount() const { return uint32_t(mImpl->current.size()); }
+uint32_t BodyCollider::triangleCount() const { return uint32_t(mImpl->triangles.size()); }
+Span<const Vec3> BodyCollider::currentPositions() const { return mImpl->current; }
+Span<const Vec3> BodyCollider::previousPositions() const { return mImpl->previous; }
+const BodyColliderStats& BodyCollider::stats() const { return mImpl->stats; }
+
+namespace {
+
+Status checkPoints(Span<const Vec3> points, const char* what) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (!isFinite(points[i])) {
+            return Status::invalidArgument(std::string(what) + ": cloth vertex " + std::to_string(i) +
+                                           " has a non-finite position");
+        }
+    }
+    return Status::ok();
+}
+
+struct ProximitySearch {
+    const BodyCollider::Impl* body;
+    Vec3 p;
+    double best2;  // squared distance of the best candidate so far
+    uint32_t triangle;
+    ClosestPoint closest;
+    double scale;
+};
+
+bool proximityCallback(RTCPointQueryFunctionArguments* args) {
+    auto* search = static_cast<ProximitySearch*>(args->userPtr);
+    const BodyCollider::Impl& body = *search->body;
+    const uint32_t t = args->primID;
+    if (body.degenerate[t]) return false;
+    const auto& tri = body.triangles[t];
+    const ClosestPoint c = detail::closestPointOnTriangle(search->p, body.current[tri[0]], body.current[tri[1]],
+                                                          body.current[tri[2]]);
+    const double d2 = (search->p - c.point).squaredNorm();
+    // Ties go to the lower triangle index, so the result does not depend on traversal order.
+    if (d2 < search->best2 || (d2 == search->best2 && t < search->triangle)) {
+        search->best2 = d2;
+        search->triangle = t;
+        search->closest = c;
+        // Shrink the search sphere (ECOSYSTEM.md pitfall 4), widened for Embree's float boxes.
+        args->query->radius = std::min(args->query->radius, widen(std::sqrt(d2), search->scale));
+        return true;
+    }
+    return false;
+}
+
+Vec3 surfaceVelocity(const BodyCollider::Impl& body, uint32_t t, const std::array<double, 3>& w) {
+    const auto& tri = body.triangles[t];
+    return w[0] * body.velocity[tri[0]] + w[1] * body.velocity[tri[1]] + w[2] * body.velocity[tri[2]];
+}
+
+} // namespace
+
+Status BodyCollider::queryProximity(Span<const Vec3> points, const ContactQuery& query,
+                                    std::vector<Contact>& outContacts) const {
+    outContacts.clear();
+    if (Status s = query.validate(); !s) return s;
+    if (Status s = checkPoints(points, "BodyCollider::queryProximity"); !s) return s;
+    const Impl& body = *mImpl;
+    const double reach = query.reach();
+    // One slot per point, filled in parallel, then compacted in index order: sorted by vertex and
+    // independent of thread timing.
+    outContacts.resize(points.size());
+    parallelFor(int64_t(points.size()), query.parallel, [&](int64_t begin, int64_t end) {
+        detail::ScopedFlushDenormals ftz;
+        for (int64_t i = begin; i < end; ++i) {
+            Contact& c = outContacts[i];
+            c.vertex = UINT32_MAX;
+            ProximitySearch search{&body, points[i], reach * reach * (1.0 + 1e-12), UINT32_MAX, {}, 0.0};
+            search.scale = points[i].cwiseAbs().maxCoeff() + reach;
+            RTCPointQuery q;
+            q.x = float(points[i].x()), q.y = float(points[i].y()), q.z = float(points[i].z());
+            q.time = 0.0f;
+            q.radius = widen(reach, search.scale);
+            RTCPointQueryContext context;
+            rtcInitPointQueryContext(&context);
+            rtcPointQuery(body.scene, &q, &context, proximityCallback, &search);
+            if (search.triangle == UINT32_MAX) continue;
+            const double dist = std::sqrt(search.best2);
+            if (dist > reach) continue;
+            const Vec3 pseudo = body.pseudonormal(search.triangle, search.closest.feature);
+            const Vec3 away = points[i] - search.closest.point;
+            const bool inside = away.dot(pseudo) < 0.0;
+            Vec3 normal;
+            if (search.closest.feature == Feature::Face || dist <= 1e-12 * search.scale) {
+                normal = pseudo.normalized();
+            } else {
+                normal = (inside ? -away : away) / dist;
+            }
+            c.vertex = uint32_t(i);
+            c.primitive = search.triangle;
+            c.point = search.closest.point;
+            c.normal = normal;
+            c.surfaceVelocity = surfaceVelocity(body, search.triangle, search.closest.weights);
+            c.depth = query.thickness - (inside ? -dist : dist);
+            c.time = 1.0;
+            c.source = ContactSource::Proximity;
+        }
+    });
+    outContacts.erase(std::remove_if(outContacts.begin(), outContacts.end(),
+                                     [](const Contact& c) { return c.vertex == UINT32_MAX; }),
+                      outContacts.end());
+    return Status::ok();
+}
+
+namespace {
+
+struct SweptSearch {
+    const BodyCollider::Impl* body;
+    Vec3 start, end;
+    CcdSettings ccd;
+    double reach;   // [m] farthest distance at which the CCD can report a contact
+    Contact* best;  // the earliest hit so far; vertex == UINT32_MAX while none
+};
+
+bool sweptCallback(RTCPointQueryFunctionArguments* args) {
+    auto* search = static_cast<SweptSearch*>(args->userPtr);
+    const BodyCollider::Impl& body = *search->body;
+    const uint32_t t = args->primID;
+    if (body.degenerate[t]) return false;
+    const auto& tri = body.triangles[t];
+    const Vec3 &a0 = body.previous[tri[0]], &b0 = body.previous[tri[1]], &c0 = body.previous[tri[2]];
+    // Only a vertex that starts on the outer side of the triangle can cross it; one already behind
+    // it is a penetration the proximity contact (with its pseudonormal side test) resolves.
+    const Vec3 n0 = (b0 - a0).cross(c0 - a0);
+    if ((search->start - a0).dot(n0) < 0.0) return false;
+    const Vec3 &a1 = body.current[tri[0]], &b1 = body.current[tri[1]], &c1 = body.current[tri[2]];
+    // Cheap proof of separation before the exact test. In the frame of corner a the point moves
+    // by dq and the edges by de1, de2; any point a + u e1 + v e2 (u, v >= 0, u + v <= 1) then moves
+    // by at most L = |dq| + max(|de1|, |de2|), so the distance over the step is >= (d0 + d1 - L) / 2.
+    // Cloth resting on or riding with the body (small relative motion) never reaches the CCD.
+    const Vec3 da = a1 - a0;
+    const double lipschitz = ((search->end - search->start) - da).norm() +
+                             std::max(((b1 - b0) - da).norm(), ((c1 - c0) - da).norm());
+    const double d0 = (search->start - detail::closestPointOnTriangle(search->start, a0, b0, c0).point).norm();
+    const double d1 = (search->end - detail::closestPointOnTriangle(search->end, a1, b1, c1).point).norm();
+    if (0.5 * (d0 + d1 - lipschitz) > search->reach) return false;
+    CcdHit hit;
+    const CcdOutcome outcome = vertexTriangleCcd({search->start, a0, b0, c0},
+                                                 {search->end, body.current[tri[0]], body.current[tri[1]],
+                                                  body.current[tri[2]]},
+                                                 search->ccd, hit);
+    if (outcome != CcdOutcome::Contact) return false;
+    Contact& best = *search->best;
+    if (best.vertex != UINT32_MAX && (hit.toi > best.time || (hit.toi == best.time && t > best.primitive))) {
+        return false;
+    }
+    const auto& w = hit.weights;
+    best.vertex = 0;  // set by the caller
+    best.primitive = t;
+    best.time = hit.toi;
+    best.point = w[0] * body.current[tri[0]] + w[1] * body.current[tri[1]] + w[2] * body.current[tri[2]];
+    best.normal = body.faceNormal[t];
+    best.surfaceVelocity = surfaceVelocity(body, t, w);
+    return false;
+}
+
+} // namespace
+
+Status BodyCollider::queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
+                                     std::vector<Contact>& outContacts) const {
+    outContacts.clear();
+    if (Status s = query.validate(); !s) return s;
+    if (start.size() != end.size()) {
+        return Status::invalidArgument("BodyCollider::queryContinuous: " + std::to_string(start.size()) +
+                                       " start positions but " + std::to_string(end.size()) + " end positions");
+    }
+    if (Status s = checkPoints(start, "BodyCollider::queryContinuous (start)"); !s) return s;
+    if (Status s = checkPoints(end, "BodyCollider::queryContinuous (end)"); !s) return s;
+    const Impl& body = *mImpl;
+    // The swept test reports first contact within a quarter of the thickness: a vertex resting at
+    // the thickness is left to the proximity contact, one about to cross is caught before it does.
+    CcdSettings ccd;
+    ccd.thickness = 0.25 * query.thickness;
+    // Resolving the time of impact finer than a few percent of the contact gap buys nothing (the
+    // contact plane is placed at the end pose) and costs many inclusion boxes.
+    ccd.distanceTolerance = 0.05 * ccd.thickness;
+    const double reach = std::sqrt(3.0) * ccd.thickness + 2.0 * ccd.distanceTolerance;
+    outContacts.resize(start.size());
+    parallelFor(int64_t(start.size()), query.parallel, [&](int64_t begin, int64_t stop) {
+        detail::ScopedFlushDenormals ftz;
+        for (int64_t i = begin; i < stop; ++i) {
+            Contact& c = outContacts[i];
+            c = Contact{};
+            c.vertex = UINT32_MAX;
+            SweptSearch search{&body, start[i], end[i], ccd, reach, &c};
+            // The sphere around the vertex's segment: every swept box it can touch.
+            const Vec3 mid = 0.5 * (start[i] + end[i]);
+            const double scale = mid.cwiseAbs().maxCoeff() + 1.0;
+            RTCPointQuery q;
+            q.x = float(mid.x()), q.y = float(mid.y()), q.z = float(mid.z());
+            q.time = 0.0f;
+            q.radius = widen(0.5 * (end[i] - start[i]).norm() + reach, scale);
+            RTCPointQueryContext context;
+            rtcInitPointQueryContext(&context);
+            rtcPointQuery(body.swept, &q, &context, sweptCallback, &search);
+            if (c.vertex == UINT32_MAX) continue;
+            c.vertex = uint32_t(i);
+            c.depth = query.thickness - (end[i] - c.point).dot(c.normal);
+            c.source = ContactSource::Continuous;
+        }
+    });
+    outContacts.erase(std::remove_if(outContacts.begin(), outContacts.end(),
+                                     [](const Contact& c) { return c.vertex == UINT32_MAX; }),
+                      outContacts.end());
+    return Status::ok();
+}
+
+} // namespace cc::collision

@@ -1,0 +1,242 @@
+// BodyCollider: closest-point contacts against brute force, refits, signs, degenerate triangles,
+// bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "collision/BodyMeshes.h"
+#include "crowdcloth/collision/BodyCollider.h"
+
+using namespace cc;
+using namespace cc::collision;
+
+namespace {
+
+struct Brute {
+    double distance = 1e300;
+    Vec3 point;
+};
+
+Brute bruteClosest(const test::BodyMesh& m, const Vec3& p) {
+    Brute best;
+    for (const auto& t : m.triangles) {
+        const Vec3 c = test::bruteClosestOnTriangle(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
+        const double d = (c - p).norm();
+        if (d < best.distance) best = {d, c};
+    }
+    return best;
+}
+
+std::unique_ptr<CollisionDevice> makeDevice() { return CollisionDevice::create({}).value(); }
+
+// Random points in a shell around the sphere, plus every body vertex and edge midpoint (points
+// exactly on vertices and edges).
+std::vector<Vec3> probePoints(const test::BodyMesh& m, std::mt19937& rng, int count, double spread) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<Vec3> points;
+    for (int i = 0; i < count; ++i) {
+        const Vec3& anchor = m.positions[rng() % m.positions.size()];
+        points.push_back(anchor + spread * Vec3(u(rng), u(rng), u(rng)));
+    }
+    for (const Vec3& p : m.positions) points.push_back(p);
+    for (const auto& t : m.triangles) points.push_back(0.5 * (m.positions[t[0]] + m.positions[t[1]]));
+    return points;
+}
+
+void expectMatchesBruteForce(const BodyCollider& body, const test::BodyMesh& m, const std::vector<Vec3>& points,
+                             const ContactQuery& query) {
+    std::vector<Contact> contacts;
+    ASSERT_TRUE(body.queryProximity(points, query, contacts).isOk());
+    std::size_t next = 0;
+    int expected = 0;
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        const Brute b = bruteClosest(m, points[i]);
+        const bool within = b.distance <= query.reach();
+        const bool borderline = std::abs(b.distance - query.reach()) < 1e-9;
+        const bool reported = next < contacts.size() && contacts[next].vertex == i;
+        if (!borderline) {
+            EXPECT_EQ(within, reported) << "point " << i << " at distance " << b.distance;
+        }
+        expected += within;
+        if (!reported) continue;
+        const Contact& c = contacts[next++];
+        const double signedDistance = (points[i] - c.point).dot(c.normal);
+        EXPECT_NEAR(std::abs(signedDistance), b.distance, 1e-9) << "point " << i;
+        EXPECT_NEAR((c.point - points[i]).norm(), b.distance, 1e-9) << "point " << i;
+        EXPECT_NEAR(c.normal.norm(), 1.0, 1e-12);
+        EXPECT_NEAR(c.depth, query.thickness - signedDistance, 1e-12);
+    }
+    EXPECT_EQ(next, contacts.size()) << "contacts not sorted by vertex or duplicated";
+    EXPECT_GT(expected, 10) << "the probe set should produce contacts";
+}
+
+} // namespace
+
+TEST(BodyCollider, ProximityMatchesBruteForceOnRandomMeshesAndAfterRefits) {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.01);
+    auto device = makeDevice();
+    test::BodyMesh m = test::uvSphere(Vec3(0.1, 1.0, -0.2), 0.15, 12, 18);
+    for (Vec3& p : m.positions) p += Vec3(noise(rng), noise(rng), noise(rng));  // a lumpy, random body
+    auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
+    ContactQuery query;
+    query.thickness = 0.01;
+    query.margin = 0.02;
+    expectMatchesBruteForce(*body, m, probePoints(m, rng, 3000, 0.05), query);
+
+    // Animate: every vertex moves by a smooth field plus noise; refits keep the answers exact.
+    for (int frame = 1; frame <= 8; ++frame) {
+        for (Vec3& p : m.positions) {
+            p += Vec3(0.02 * std::sin(3 * p.y() + frame), 0.01 * frame * 0.1, 0.02 * std::cos(5 * p.x())) +
+                 Vec3(noise(rng), noise(rng), noise(rng)) * 0.3;
+        }
+        ASSERT_TRUE(body->update(m.positions, 1.0 / 60).isOk());
+        expectMatchesBruteForce(*body, m, probePoints(m, rng, 600, 0.05), query);
+    }
+    EXPECT_GE(body->stats().refits, 1u);
+
+    // A large displacement forces a full rebuild; answers stay exact.
+    const uint64_t rebuilds = body->stats().rebuilds;
+    for (Vec3& p : m.positions) p = Vec3(1.3 * p.x(), 0.7 * p.y() + 2.0, p.z() - 1.0);
+    ASSERT_TRUE(body->update(m.positions, 1.0 / 60).isOk());
+    EXPECT_EQ(body->stats().rebuilds, rebuilds + 1);
+    expectMatchesBruteForce(*body, m, probePoints(m, rng, 600, 0.05), query);
+}
+
+TEST(BodyCollider, InsideAndOutsideAreToldApartAtFacesEdgesAndVertices) {
+    auto device = makeDevice();
+    const Vec3 center(0.0, 1.0, 0.0);
+    const test::BodyMesh m = test::uvSphere(center, 0.2, 10, 16);
+    auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
+    ContactQuery query;
+    query.thickness = 0.01;
+    query.margin = 0.05;
+    std::vector<Vec3> points;
+    std::vector<double> sides;  // +1 outside, -1 inside
+    for (const Vec3& p : m.positions) {
+        const Vec3 radial = (p - center).normalized();
+        points.push_back(p + 0.02 * radial), sides.push_back(1);   // off a vertex, outside
+        points.push_back(p - 0.02 * radial), sides.push_back(-1);  // and inside
+    }
+    for (const auto& t : m.triangles) {
+        const Vec3 mid = 0.5 * (m.positions[t[0]] + m.positions[t[1]]);
+        const Vec3 centroid = (m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]) / 3.0;
+        for (const Vec3& q : {mid, centroid}) {
+            const Vec3 radial = (q - center).normalized();
+            points.push_back(q + 0.01 * radial), sides.push_back(1);
+            points.push_back(q - 0.01 * radial), sides.push_back(-1);
+        }
+    }
+    std::vector<Contact> contacts;
+    ASSERT_TRUE(body->queryProximity(points, query, contacts).isOk());
+    ASSERT_EQ(contacts.size(), points.size());
+    for (const Contact& c : contacts) {
+        const Vec3 radial = (points[c.vertex] - center).normalized();
+        EXPECT_GT(c.normal.dot(radial), 0.5) << "normal of point " << c.vertex << " does not point outwards";
+        const double signedDistance = (points[c.vertex] - c.point).dot(c.normal);
+        EXPECT_EQ(signedDistance > 0, sides[c.vertex] > 0) << "point " << c.vertex << " on the wrong side";
+    }
+}
+
+TEST(BodyCollider, PointsOnTheSurfaceHaveZeroDistanceAndAUnitNormal) {
+    auto device = makeDevice();
+    const test::BodyMesh m = test::uvSphere(Vec3::Zero(), 0.3, 8, 12);
+    auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
+    std::vector<Vec3> points = m.positions;  // exactly on vertices
+    for (const auto& t : m.triangles) points.push_back(0.25 * m.positions[t[1]] + 0.75 * m.positions[t[2]]);  // on edges
+    std::vector<Contact> contacts;
+    const ContactQuery query;
+    ASSERT_TRUE(body->queryProximity(points, query, contacts).isOk());
+    ASSERT_EQ(contacts.size(), points.size());
+    for (const Contact& c : contacts) {
+        EXPECT_LT((c.point - points[c.vertex]).norm(), 1e-12);
+        EXPECT_NEAR(c.depth, query.thickness, 1e-12);
+        EXPECT_NEAR(c.normal.norm(), 1.0, 1e-9);
+        EXPECT_GT(c.normal.dot(points[c.vertex].normalized()), 0.8);
+    }
+}
+
+TEST(BodyCollider, DegenerateTrianglesAreSkippedAndCounted) {
+    // The rule: a triangle with (near) zero area in the current pose is skipped by every query and
+    // counted in stats(); its edges are still covered by the neighbours of a closed mesh.
+    auto device = makeDevice();
+    test::BodyMesh m = test::grid(Vec3(-0.5, 0, 0.5), Vec3(1, 0, 0), Vec3(0, 0, -1), 4);
+    const uint32_t a = 0, b = 1;
+    m.positions.push_back(0.5 * (m.positions[a] + m.positions[b]));  // collinear: zero area
+    m.triangles.push_back({a, b, uint32_t(m.positions.size() - 1)});
+    auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
+    EXPECT_EQ(body->stats().degenerateTriangles, 1u);
+    std::vector<Vec3> points{m.positions.back() + Vec3(0, 0.001, 0), Vec3(0.1, 0.002, 0.1)};
+    std::vector<Contact> contacts;
+    ASSERT_TRUE(body->queryProximity(points, ContactQuery{}, contacts).isOk());
+    ASSERT_EQ(contacts.size(), 2u);
+    for (const Contact& c : contacts) {
+        EXPECT_NE(c.primitive, m.triangles.size() - 1);
+        EXPECT_TRUE(isFinite(c.normal));
+        EXPECT_NEAR(c.normal.y(), 1.0, 1e-12);
+    }
+    // Moving the extra vertex off the line makes the triangle regular again.
+    m.positions.back() += Vec3(0, 0, -0.1);
+    ASSERT_TRUE(body->update(m.positions, 0.1).isOk());
+    EXPECT_EQ(body->stats().degenerateTriangles, 0u);
+}
+
+TEST(BodyCollider, BadInputGivesClearErrors) {
+    auto device = makeDevice();
+    test::BodyMesh m = test::uvSphere(Vec3::Zero(), 0.3, 6, 8);
+    {
+        auto r = BodyCollider::create(*device, {}, m.positions);
+        ASSERT_FALSE(r.isOk());
+        EXPECT_NE(r.status().message().find("zero triangles"), std::string::npos) << r.status().message();
+    }
+    {
+        auto tris = m.triangles;
+        tris[5][2] = 999;
+        auto r = BodyCollider::create(*device, tris, m.positions);
+        ASSERT_FALSE(r.isOk());
+        EXPECT_NE(r.status().message().find("triangle 5"), std::string::npos) << r.status().message();
+        EXPECT_NE(r.status().message().find("999"), std::string::npos) << r.status().message();
+    }
+    {
+        auto pos = m.positions;
+        pos[3].y() = std::numeric_limits<double>::quiet_NaN();
+        auto r = BodyCollider::create(*device, m.triangles, pos);
+        ASSERT_FALSE(r.isOk());
+        EXPECT_NE(r.status().message().find("body vertex 3"), std::string::npos) << r.status().message();
+    }
+    auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
+    auto pos = m.positions;
+    pos[7].x() = std::numeric_limits<double>::infinity();
+    Status s = body->update(pos, 1.0 / 60);
+    ASSERT_FALSE(s.isOk());
+    EXPECT_NE(s.message().find("body vertex 7"), std::string::npos) << s.message();
+    EXPECT_FALSE(body->update(m.positions, 0.0).isOk());
+    EXPECT_FALSE(body->update(std::vector<Vec3>(3, Vec3::Zero()), 0.1).isOk());
+    // A rejected update leaves the body as it was.
+    EXPECT_EQ((body->currentPositions()[7] - m.positions[7]).norm(), 0.0);
+
+    std::vector<Contact> contacts;
+    ContactQuery q;
+    q.thickness = -0.01;
+    s = body->queryProximity(m.positions, q, contacts);
+    ASSERT_FALSE(s.isOk());
+    EXPECT_NE(s.message().find("thickness"), std::string::npos) << s.message();
+    q = ContactQuery{};
+    q.margin = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(body->queryProximity(m.positions, q, contacts).isOk());
+    std::vector<Vec3> cloth{Vec3::Zero(), Vec3(0, std::nan(""), 0)};
+    s = body->queryProximity(cloth, ContactQuery{}, contacts);
+    ASSERT_FALSE(s.isOk());
+    EXPECT_NE(s.message().find("cloth vertex 1"), std::string::npos) << s.message();
+
+    BodyColliderSettings bad;
+    bad.rebuildFraction = 0.0;
+    auto r = BodyCollider::create(*device, m.triangles, m.positions, bad);
+    ASSERT_FALSE(r.isOk());
+    EXPECT_NE(r.status().message().find("rebuildFraction"), std::string::npos);
+    CollisionDeviceSettings badDevice;
+    badDevice.threads = 0;
+    EXPECT_FALSE(CollisionDevice::create(badDevice).isOk());
+}
