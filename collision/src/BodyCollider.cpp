@@ -186,8 +186,10 @@ Status BodyCollider::Impl::buildScenes() {
     rtcCommitScene(scene);
 
     swept = rtcNewScene(dev);
+    rtcSetSceneFlags(swept, RTC_SCENE_FLAG_DYNAMIC);
     rtcSetSceneBuildQuality(swept, RTC_BUILD_QUALITY_LOW);
     sweptGeometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryBuildQuality(sweptGeometry, RTC_BUILD_QUALITY_REFIT);
     rtcSetGeometryUserPrimitiveCount(sweptGeometry, uint32_t(triangles.size()));
     rtcSetGeometryUserData(sweptGeometry, this);
     rtcSetGeometryBoundsFunction(sweptGeometry, sweptBounds, nullptr);
@@ -216,7 +218,7 @@ Status BodyCollider::Impl::refit() {
     rtcUpdateGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(mesh);
     rtcCommitScene(scene);
-    // The swept boxes change shape every frame: their (small, low-quality) tree is rebuilt.
+    // The swept boxes follow the same motion: their tree is refit too (rebuilt with the mesh's).
     rtcCommitGeometry(sweptGeometry);
     rtcCommitScene(swept);
     ++stats.refits;
