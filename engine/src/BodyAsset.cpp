@@ -19,6 +19,15 @@ Result<BodyAsset> makeMannequinBody(const MannequinDesc& desc) {
     if (!mannequin.isOk()) return Status::invalidArgument("MannequinDesc: " + mannequin.status().message());
     BodyAsset body;
     body.mannequin = std::move(mannequin).value();
+    body.anchorMesh = body.mesh();
+    body.anchorMesh.triangles.clear();
+    for (const BodyPart& part : body.mannequin.parts) {
+        if (part.name != "torso" && part.name != "neck") continue;
+        const auto& all = body.mesh().triangles;
+        body.anchorMesh.triangles.insert(body.anchorMesh.triangles.end(), all.begin() + part.firstTriangle,
+                                         all.begin() + part.firstTriangle + part.triangleCount);
+    }
+    if (body.anchorMesh.triangles.empty()) body.anchorMesh.triangles = body.mesh().triangles;
     return body;
 }
 
@@ -67,6 +76,7 @@ Result<BodyAsset> makeHostSkinnedBody(const float* bindPositions, uint32_t verte
     mesh.jointWeights.assign(vertexCount, {1.0, 0.0, 0.0, 0.0});
     mesh.inverseBindMatrices.assign(1, Mat4::Identity());
     mesh.computeBindNormals();
+    body.anchorMesh = mesh;
     return body;
 }
 
@@ -83,17 +93,19 @@ Box bounds(const std::vector<Vec3>& points) {
     return b;
 }
 
-/// The body's back (smallest z) near height y and the body's centre line.
-double backAt(const std::vector<Vec3>& points, double y, double centreX) {
+/// The body's back (smallest z) over heights [yLow, yHigh] within halfWidth of the centre line:
+/// a cape hung there starts clear of the shoulder blades, the seat and the arms.
+double backOver(const std::vector<Vec3>& points, double yLow, double yHigh, double centreX, double halfWidth) {
     double back = std::numeric_limits<double>::max();
     for (const Vec3& p : points)
-        if (std::abs(p.y() - y) < 0.06 && std::abs(p.x() - centreX) < 0.12) back = std::min(back, p.z());
+        if (p.y() >= yLow && p.y() <= yHigh && std::abs(p.x() - centreX) < halfWidth) back = std::min(back, p.z());
     return back == std::numeric_limits<double>::max() ? 0.0 : back;
 }
 
 } // namespace
 
-Vec3 garmentPlacement(const BodyAsset& body, GarmentKind kind, double garmentLength, double thickness) {
+Vec3 garmentPlacement(const BodyAsset& body, GarmentKind kind, double garmentWidth, double garmentLength,
+                      double thickness) {
     const std::vector<Vec3>& points = body.mesh().bindPositions;
     const Box box = bounds(points);
     const double height = box.hi.y() - box.lo.y();
@@ -107,8 +119,11 @@ Vec3 garmentPlacement(const BodyAsset& body, GarmentKind kind, double garmentLen
     }
     const double gap = thickness + 0.01;
     switch (kind) {
-    case GarmentKind::Cape:
-        return Vec3(centre.x(), shoulderY - 0.03 - garmentLength, backAt(points, shoulderY - 0.03, centre.x()) - gap);
+    case GarmentKind::Cape: {
+        const double top = shoulderY - 0.03;
+        const double back = backOver(points, top - garmentLength, top, centre.x(), 0.5 * garmentWidth);
+        return Vec3(centre.x(), top - garmentLength, back - gap);
+    }
     case GarmentKind::Skirt: return waist - Vec3(0.0, garmentLength, 0.0);
     case GarmentKind::Dress: return Vec3(waist.x(), shoulderY - 0.05 - garmentLength, waist.z());
     case GarmentKind::Poncho: return Vec3(waist.x(), shoulderY + gap - garmentLength, waist.z());

@@ -17,6 +17,10 @@ struct BodyAsset {
     Mannequin mannequin;  ///< built-in bodies; for host-skinned ones only character.body's
                           ///< bindPositions and triangles are set
 
+    SkinnedMesh anchorMesh;  ///< what garments hang from: the mannequin's torso and neck (a cape
+                             ///< bound to a swinging arm would be torn along its top edge);
+                             ///< a host-skinned body's whole mesh
+
     const SkinnedMesh& mesh() const { return mannequin.character.body; }
 };
 
@@ -26,7 +30,8 @@ Result<BodyAsset> makeHostSkinnedBody(const float* bindPositions, uint32_t verte
 
 /// Where a garment's asset space lands in the body's bind space: a translation that hangs the
 /// cape behind the shoulders, the skirt round the waist, the dress and poncho from the shoulders.
-Vec3 garmentPlacement(const BodyAsset& body, GarmentKind kind, double garmentLength, double thickness);
+Vec3 garmentPlacement(const BodyAsset& body, GarmentKind kind, double garmentWidth, double garmentLength,
+                      double thickness);
 
 /// Reads `count` xyz float triples `strideBytes` apart; fails naming the first non-finite vertex.
 Status readFloat3(const float* data, uint32_t count, uint32_t strideBytes, const char* what,

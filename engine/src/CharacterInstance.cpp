@@ -18,6 +18,10 @@ Status CharacterInstance::updatePoseLocked() {
 
 Status CharacterInstance::updateSkin() {
     std::lock_guard<std::mutex> lock(mMutex);
+    return updateSkinLocked();
+}
+
+Status CharacterInstance::updateSkinLocked() {
     if (skinnedCurrent) return Status::ok();
     if (body->hostSkinned) {
         if (!hostVerticesGiven)
@@ -30,6 +34,47 @@ Status CharacterInstance::updateSkin() {
     skinnedPositions.resize(body->mesh().vertexCount());
     skinnedCurrent = true;
     return skinVertices(body->mesh(), pose.skinMatrices(), skinnedPositions, Span<Vec3>());
+}
+
+Result<const collision::Collider*> CharacterInstance::meshColliderAt(collision::CollisionDevice& device, double time) {
+    std::lock_guard<std::mutex> lock(mMutex);
+    if (mMeshColliderTime == time) return static_cast<const collision::Collider*>(meshCollider.get());
+    if (Status s = updateSkinLocked(); !s) return s;
+    if (!meshCollider) {
+        auto made = collision::BodyCollider::create(device, body->mesh().triangles, skinnedPositions);
+        if (!made.isOk()) return made.status();
+        meshCollider = std::move(made).value();
+    } else if (Status s = meshCollider->update(skinnedPositions, time - mMeshColliderTime); !s) {
+        return s;
+    }
+    mMeshColliderTime = time;
+    return static_cast<const collision::Collider*>(meshCollider.get());
+}
+
+Result<const collision::Collider*> CharacterInstance::proxyColliderAt(collision::CollisionDevice& device, double time) {
+    if (body->hostSkinned) return meshColliderAt(device, time);
+    std::lock_guard<std::mutex> lock(mMutex);
+    if (mProxyColliderTime == time) return static_cast<const collision::Collider*>(&proxyCollider);
+    if (Status s = updatePoseLocked(); !s) return s;
+    const auto& fitted = body->mannequin.capsules;
+    const auto skin = pose.skinMatrices();
+    mCapsules.resize(fitted.size());
+    for (std::size_t k = 0; k < fitted.size(); ++k) {
+        const Mat4& m = skin[fitted[k].joint];
+        mCapsules[k].a = m.topLeftCorner<3, 3>() * fitted[k].a + m.topRightCorner<3, 1>();
+        mCapsules[k].b = m.topLeftCorner<3, 3>() * fitted[k].b + m.topRightCorner<3, 1>();
+        mCapsules[k].radius = fitted[k].radius;
+    }
+    if (!proxyColliderMade) {
+        auto made = collision::CapsuleCollider::create(mCapsules);
+        if (!made.isOk()) return made.status();
+        proxyCollider = std::move(made).value();
+        proxyColliderMade = true;
+    } else if (Status s = proxyCollider.update(mCapsules, time - mProxyColliderTime); !s) {
+        return s;
+    }
+    mProxyColliderTime = time;
+    return static_cast<const collision::Collider*>(&proxyCollider);
 }
 
 } // namespace cc::detail

@@ -7,6 +7,8 @@
 #include "BodyAsset.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/character/Character.h"
+#include "crowdcloth/collision/BodyCollider.h"
+#include "crowdcloth/collision/CapsuleCollider.h"
 
 namespace cc::detail {
 
@@ -31,6 +33,14 @@ struct CharacterInstance {
     std::vector<float> drawPositions, drawNormals;  ///< characterMesh() buffers (world space)
     std::vector<uint32_t> drawIndices;
 
+    /// Colliders of the body in the character's frame, made on first need and moved to this
+    /// frame's pose once per frame by whichever garment task asks first. The previous pose is
+    /// the one of the last update, so a garment updated every n-th frame sweeps the body over its
+    /// whole n-frame step.
+    std::unique_ptr<collision::BodyCollider> meshCollider;
+    collision::CapsuleCollider proxyCollider;
+    bool proxyColliderMade = false;
+
     /// Root transform (character space -> world).
     Mat3 rotation() const { return Eigen::AngleAxisd(yaw, Vec3::UnitY()).toRotationMatrix(); }
     Vec3 toWorld(const Vec3& local) const { return rotation() * local + position; }
@@ -42,10 +52,20 @@ struct CharacterInstance {
     /// hold their vertices).
     Status updateSkin();
 
+    /// The body mesh collider at this frame's pose (skins the body first).
+    Result<const collision::Collider*> meshColliderAt(collision::CollisionDevice& device, double time);
+    /// Capsules fitted to the skeleton at this frame's pose; host-skinned bodies have none and
+    /// answer with their mesh.
+    Result<const collision::Collider*> proxyColliderAt(collision::CollisionDevice& device, double time);
+
 private:
     Status updatePoseLocked();
+    Status updateSkinLocked();
     std::mutex mMutex;
     Status mPoseStatus;
+    double mMeshColliderTime = -1.0;
+    double mProxyColliderTime = -1.0;
+    std::vector<collision::Capsule> mCapsules;
 };
 
 } // namespace cc::detail

@@ -1,6 +1,9 @@
 #include "GarmentInstance.h"
 
+#include "crowdcloth/cloth/ContactResponse.h"
+
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 namespace cc::detail {
@@ -11,7 +14,7 @@ constexpr int kMorphFrames = 8;  ///< frames over which a level switch's render 
 /// Targets of bound points on a host-skinned body: the barycentric point of the host's vertices
 /// plus the bind offset (no skeleton, so no rotation to carry it with).
 void hostTargets(const SkinBinding& binding, const CharacterInstance& character, Span<Vec3> outTargets) {
-    const auto& triangles = character.body->mesh().triangles;
+    const auto& triangles = character.body->anchorMesh.triangles;
     for (std::size_t i = 0; i < binding.size(); ++i) {
         const BoundVertex& b = binding.vertices()[i];
         Vec3 p = b.offset;
@@ -27,7 +30,7 @@ Status boundTargets(const SkinBinding& binding, CharacterInstance& character, Sp
         return Status::ok();
     }
     if (Status s = character.updatePose(); !s) return s;
-    return binding.evaluate(character.body->mesh(), character.pose.skinMatrices(), outTargets, {}, {});
+    return binding.evaluate(character.body->anchorMesh, character.pose.skinMatrices(), outTargets, {}, {});
 }
 
 void weldCopies(const lod::ActiveMesh& active, cloth::ClothState& state) {
@@ -52,8 +55,8 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     g->mAssetIndex = assetIndex;
     g->mCharacterId = characterId;
     g->mImportance = desc.importance;
-    g->mPlacement = garmentPlacement(*character.body, g->mAsset->desc.kind, g->mAsset->desc.length,
-                                     g->mAsset->desc.thickness);
+    const ClothAssetDesc& d = g->mAsset->desc;
+    g->mPlacement = garmentPlacement(*character.body, d.kind, d.width, d.length, d.thickness);
     if (Status s = g->bindAttachments(character); !s) return s;
 
     // Start at level 0 with every vertex carried by the body point nearest to it, so a skirt put
@@ -63,7 +66,7 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     for (std::size_t i = 0; i < bindPositions.size(); ++i) bindPositions[i] = level0.active.mesh.positions[i] + g->mPlacement;
     SkinBindingSettings wide;
     wide.maxBindDistance = 10.0;
-    auto carried = SkinBinding::bind(character.body->mesh(), bindPositions, wide);
+    auto carried = SkinBinding::bind(character.body->anchorMesh, bindPositions, wide);
     if (!carried.isOk()) return Status::invalidArgument("addGarment: " + carried.status().message());
     std::vector<Vec3> start(bindPositions.size());
     if (character.body->hostSkinned) {
@@ -91,7 +94,7 @@ Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
     for (uint32_t id : mAsset->attachedVertices) bindPositions.push_back(base.position(id) + mPlacement);
     SkinBindingSettings settings;
     settings.maxBindDistance = 1.0;
-    auto binding = SkinBinding::bind(character.body->mesh(), bindPositions, settings);
+    auto binding = SkinBinding::bind(character.body->anchorMesh, bindPositions, settings);
     if (!binding.isOk()) return Status::invalidArgument("addGarment: attachment " + binding.status().message());
     mAttachments = std::move(binding).value();
     mTargets.resize(mAttachments.size());
@@ -99,7 +102,10 @@ Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
 }
 
 Result<bool> GarmentInstance::configure(int level, const cloth::SimulationSettings& settings) {
-    if (level == mLevel && settings.integrator == mSim->settings().integrator) return false;
+    const cloth::SimulationSettings& now = mSim->settings();
+    if (level == mLevel && settings.integrator == now.integrator &&
+        settings.implicit.maxHalvings == now.implicit.maxHalvings && settings.strainLimit == now.strainLimit)
+        return false;
     const CookedLevel& from = mAsset->levels[mLevel];
     const CookedLevel& to = mAsset->levels[level];
     std::vector<Vec3> before;
@@ -125,13 +131,69 @@ Result<bool> GarmentInstance::configure(int level, const cloth::SimulationSettin
     return true;
 }
 
-Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdateContext& ctx) {
+Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdateContext& ctx,
+                               GarmentUpdateReport& outReport) {
+    using Clock = std::chrono::steady_clock;
+    outReport = {};
     if (Status s = boundTargets(mAttachments, character, mTargets); !s) return s;
     cloth::ConstraintSet& constraints = mSim->constraints();
-    for (const AttachedVertex& a : mAsset->levels[mLevel].attached)
+    const CookedLevel& level = mAsset->levels[mLevel];
+    for (const AttachedVertex& a : level.attached)
         if (Status s = constraints.setTarget(a.sim, mTargets[a.slot]); !s) return s;
+
+    // Body contacts as the collision module prescribes: planes from the still cloth against the
+    // body's end pose before the solve, swept and proximity corrections after it.
+    collision::BodyContactSettings contactSettings;
+    contactSettings.query.thickness = mAsset->desc.thickness;
+    contactSettings.query.margin = mAsset->desc.thickness;
+    contactSettings.continuous = ctx.continuous;
+    cloth::ContactResponse response;
+    response.thickness = mAsset->desc.thickness;
+    response.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
+    const collision::Collider* colliders[1] = {ctx.collider};
+    const Span<const collision::Collider* const> bodies(colliders, ctx.collider ? 1 : 0);
+    mStepStart = mSim->state().positions;
+    auto start = Clock::now();
+    constraints.clearContactPlanes();
+    if (ctx.collider) {
+        if (Status s = mContactStage.gather(bodies, mStepStart, mStepStart, contactSettings, mContacts); !s) return s;
+        if (Status s = cloth::applyContactPlanes(mContacts, response, constraints); !s) return s;
+        outReport.contacts = uint32_t(mContacts.size());
+    }
+    double collisionMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+
     if (Status s = mSim->step(ctx.dt); !s) return s;
-    weldCopies(mAsset->levels[mLevel].active, mSim->state());
+
+    start = Clock::now();
+    cloth::ClothState& state = mSim->state();
+    if (ctx.collider) {
+        if (Status s = mContactStage.gather(bodies, mStepStart, state.positions, contactSettings, mContacts); !s)
+            return s;
+        if (Status s = cloth::resolveContacts(mContacts, response, constraints, state); !s) return s;
+    }
+    if (ctx.selfCollision) {
+        if (mSelfLevel != mLevel) {
+            collision::SelfCollisionSettings selfSettings;
+            selfSettings.thickness = 0.5 * mAsset->desc.thickness;
+            selfSettings.ccdGap = std::min(selfSettings.ccdGap, selfSettings.thickness);
+            selfSettings.parallel.maxThreads = 1;
+            auto made = collision::SelfCollision::create(level.active.mesh.triangles,
+                                                         uint32_t(level.active.mesh.vertexCount()), selfSettings);
+            if (!made.isOk()) return made.status();
+            mSelf = std::move(made).value();
+            mSelfLevel = mLevel;
+        }
+        mSelfMasses = state.masses;
+        for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
+        collision::SelfCollisionStats selfStats;
+        if (Status s = mSelf.resolve(mStepStart, state.positions, mSelfMasses, selfStats); !s) return s;
+        for (std::size_t v = 0; v < state.positions.size(); ++v)
+            state.velocities[v] = (state.positions[v] - mStepStart[v]) / ctx.dt;
+        outReport.failSafes = selfStats.failSafeActivations;
+    }
+    collisionMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    outReport.collisionMs = collisionMs;
+    weldCopies(level.active, state);
     return Status::ok();
 }
 

@@ -9,6 +9,8 @@
 #include "crowdcloth/World.h"
 #include "crowdcloth/character/SkinBinding.h"
 #include "crowdcloth/cloth/ClothSimulation.h"
+#include "crowdcloth/collision/BodyContactStage.h"
+#include "crowdcloth/collision/SelfCollision.h"
 #include "crowdcloth/core/Contact.h"
 #include "crowdcloth/lod/CrowdScheduler.h"
 
@@ -16,8 +18,17 @@ namespace cc::detail {
 
 /// What a garment update needs from the world this frame.
 struct GarmentUpdateContext {
-    double dt = 0.0;          ///< [s] time since the garment's last update
-    Vec3 gravity = Vec3::Zero();  ///< [m/s^2] in the character's frame
+    double dt = 0.0;                                ///< [s] time since the garment's last update
+    const collision::Collider* collider = nullptr;  ///< the body at the end of the step; null = none
+    bool continuous = false;                        ///< swept tests against the body (fast limbs)
+    bool selfCollision = false;
+};
+
+/// What the last update did besides the solve.
+struct GarmentUpdateReport {
+    uint32_t contacts = 0;
+    uint32_t failSafes = 0;
+    double collisionMs = 0.0;  ///< [ms] contacts and self-collision
 };
 
 /// One garment on one character: its level, its simulation in the character's frame, its
@@ -49,7 +60,7 @@ public:
     /// Where the bounding sphere's centre sits in the character's frame [m].
     Vec3 localCentre() const { return mAsset->centroid + mPlacement; }
     /// One simulation update over ctx.dt with the character's body as it is this frame.
-    Status update(CharacterInstance& character, const GarmentUpdateContext& ctx);
+    Status update(CharacterInstance& character, const GarmentUpdateContext& ctx, GarmentUpdateReport& outReport);
     /// Writes the world-space render mesh (positions and normals as floats).
     void publish(const CharacterInstance& character);
 
@@ -78,6 +89,12 @@ private:
     std::vector<Vec3> mLocalRender;         ///< scratch
     std::vector<Vec3> mNormals;             ///< scratch
     std::vector<float> mRenderPositions, mRenderNormals;
+    collision::BodyContactStage mContactStage;
+    std::vector<Contact> mContacts;
+    std::vector<Vec3> mStepStart;           ///< positions before the solve
+    collision::SelfCollision mSelf;         ///< for the current level, made on first need
+    int mSelfLevel = -1;
+    std::vector<double> mSelfMasses;        ///< 0 for vertices driven by the body
     std::vector<uint32_t> mRenderIndices;
 };
 

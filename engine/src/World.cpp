@@ -11,9 +11,9 @@ const detail::WorldImpl& impl(const World* w) { return *static_cast<const detail
 } // namespace
 
 Result<World*> World::create(const WorldDesc& desc) {
-    if (Status s = desc.validate(); !s) return s;
-    World* world = new detail::WorldImpl(desc);
-    return world;
+    auto world = detail::WorldImpl::create(desc);
+    if (!world.isOk()) return world.status();
+    return static_cast<World*>(world.value());
 }
 
 void World::destroy(World* world) { delete static_cast<detail::WorldImpl*>(world); }

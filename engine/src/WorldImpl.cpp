@@ -54,8 +54,17 @@ constexpr double kRestEnergy = 1e-5;
 
 } // namespace
 
-WorldImpl::WorldImpl(const WorldDesc& desc)
-    : mDesc(desc), mCostModel(desc.fixedCostModel ? lod::CostModel::Mode::Fixed : lod::CostModel::Mode::Learned) {}
+WorldImpl::WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device)
+    : mDesc(desc), mCostModel(desc.fixedCostModel ? lod::CostModel::Mode::Fixed : lod::CostModel::Mode::Learned),
+      mDevice(std::move(device)) {}
+
+Result<WorldImpl*> WorldImpl::create(const WorldDesc& desc) {
+    if (Status s = desc.validate(); !s) return s;
+    // One Embree device per world, one build thread: its pool must not fight OpenMP's.
+    auto device = collision::CollisionDevice::create({});
+    if (!device.isOk()) return device.status();
+    return new WorldImpl(desc, std::move(device).value());
+}
 
 int WorldImpl::threadCount() const {
 #ifdef CC_HAVE_OPENMP
@@ -264,23 +273,44 @@ void WorldImpl::updateGarment(const FrameItem& item, double dt) {
     settings.integrator = integratorFor(schedule.solver);
     settings.gravity = Vec3(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
     settings.parallel.maxThreads = 1; // garments run in parallel; one thread each (measured faster)
+    // Step-size control is what keeps a garment pressed by the body mesh from gaining energy
+    // (measured on a cape on the walking mannequin: 0.2-0.6% strain with it, 10% without it, held
+    // only by the strain limiter); a garment against proxies is small on screen and takes one split.
+    settings.implicit.maxHalvings = schedule.collision >= lod::CollisionDetail::Mesh
+                                        ? int(mDesc.maxStepHalvings)
+                                        : std::min(1, int(mDesc.maxStepHalvings));
+    settings.strainLimit = mDesc.strainLimit;
     auto configured = g.configure(schedule.level, settings);
     Status status = configured.status();
     if (status) {
         GarmentUpdateContext ctx;
         ctx.dt = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
-        // The character's frame turns only about Y, so world gravity is the same in it.
-        ctx.gravity = settings.gravity;
-        status = g.update(*item.character, ctx);
+        ctx.continuous = schedule.collision == lod::CollisionDetail::MeshContinuous;
+        ctx.selfCollision = schedule.selfCollision;
+        if (schedule.collision != lod::CollisionDetail::None) {
+            auto collider = schedule.collision == lod::CollisionDetail::Proxies
+                                ? item.character->proxyColliderAt(*mDevice, mTime)
+                                : item.character->meshColliderAt(*mDevice, mTime);
+            status = collider.status();
+            if (collider.isOk()) ctx.collider = collider.value();
+        }
+        GarmentUpdateReport report;
+        if (status) status = g.update(*item.character, ctx, report);
         if (!status && settings.integrator != cloth::IntegratorKind::ImplicitPcg) {
             // The cheap solver gave up (explicit stability, a failed factorisation): this update
             // falls back to the implicit PCG, which is stable at any step.
             settings.integrator = cloth::IntegratorKind::ImplicitPcg;
-            if (auto again = g.configure(schedule.level, settings); again.isOk()) status = g.update(*item.character, ctx);
+            if (auto again = g.configure(schedule.level, settings); again.isOk())
+                status = g.update(*item.character, ctx, report);
         }
+        stats.contacts = report.contacts;
+        stats.failSafes = report.failSafes;
+        stats.collisionMs = report.collisionMs;
     }
     g.lastUpdateTime = mTime;
     stats.failed = !status.isOk();
+    stats.substeps = uint32_t(g.simulation().lastStats().substeps);
+    stats.iterations = uint32_t(g.simulation().lastStats().iterations);
     if (stats.failed) g.lastError = status.message();
     stats.measuredMs = msSince(start);
     if (configured.isOk() && configured.value()) stats.levelSwitched = true;
@@ -349,7 +379,6 @@ Status WorldImpl::step(double dt) {
         s.level = g.level();
         s.vertexCount = g.simulation().state().vertexCount();
         s.solver = SolverKind(sc.solver);
-        s.substeps = uint32_t(sc.substeps);
         s.updateInterval = uint32_t(sc.updateInterval);
         s.collision = CollisionKind(sc.collision);
         s.selfCollision = sc.selfCollision;

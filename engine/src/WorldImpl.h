@@ -8,6 +8,7 @@
 #include "GarmentInstance.h"
 #include "HandlePool.h"
 #include "crowdcloth/World.h"
+#include "crowdcloth/collision/CollisionDevice.h"
 #include "crowdcloth/lod/CostModel.h"
 #include "crowdcloth/lod/CrowdScheduler.h"
 
@@ -16,7 +17,7 @@ namespace cc::detail {
 /// The World behind the public handle (public classes hold no data, STYLE.md §2).
 class WorldImpl final : public World {
 public:
-    explicit WorldImpl(const WorldDesc& desc);
+    static Result<WorldImpl*> create(const WorldDesc& desc);
 
     Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
     Result<BodyId> addBody(BodyAsset body);
@@ -37,6 +38,7 @@ public:
     uint64_t stateHash() const;
 
 private:
+    WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device);
     struct AssetRecord {
         std::shared_ptr<const CookedAsset> asset;
     };
@@ -57,6 +59,7 @@ private:
 
     WorldDesc mDesc;
     lod::CostModel mCostModel;
+    std::unique_ptr<collision::CollisionDevice> mDevice;
     HandlePool<AssetRecord> mAssets;
     HandlePool<BodyRecord> mBodies;
     HandlePool<CharacterInstance> mCharacters;

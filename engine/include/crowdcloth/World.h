@@ -27,6 +27,10 @@ struct WorldDesc {
                                       ///< the chosen levels follow this machine's timing
     double gravity[3] = {0.0, -9.81, 0.0}; ///< [m/s^2] finite
     uint32_t maxUpdateInterval = 8;   ///< [frames] slowest update of a far garment, power of two
+    uint32_t maxStepHalvings = 6;     ///< [-] the implicit step splits a step that creates energy, up to
+                                      ///< 2^this substeps; [0, 10]
+    double strainLimit = 0.1;         ///< [-] Provot limit on edge strain after each update (with tethers
+                                      ///< to the attachments); 0 = off; [0, 10]
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
     bool offerExplicit = false;       ///< let the scheduler pick symplectic Euler where its predicted
@@ -112,7 +116,8 @@ struct GarmentStats {
     int32_t level = -1;              ///< uniform level simulated
     uint32_t vertexCount = 0;        ///< simulated vertices
     SolverKind solver = SolverKind::ImplicitPcg;
-    uint32_t substeps = 1;
+    uint32_t substeps = 1;           ///< substeps the solver took (implicit: > 1 when it split a step)
+    uint32_t iterations = 0;         ///< PCG iterations over the update
     uint32_t updateInterval = 1;     ///< [frames] 0 = asleep
     bool updated = false;            ///< stepped this frame (else carried with its character, or asleep)
     bool levelSwitched = false;      ///< changed level or solver this frame
