@@ -1,0 +1,136 @@
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "crowdcloth/World.h"
+#include "support/CrowdScenes.h"
+
+namespace cc {
+namespace {
+
+struct WorldDeleter {
+    void operator()(World* w) const { World::destroy(w); }
+};
+using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+
+Vec3 vertexOf(const float* xyz, uint32_t v) { return Vec3(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); }
+
+/// Generalised winding number of a closed, outward-oriented triangle soup at p (Jacobson et al.
+/// 2013): ~1 inside one closed part, ~k inside k overlapping parts, ~0 outside. Independent of
+/// the collision module: it needs no BVH and no closest points.
+double windingNumber(const RenderMeshView& body, const Vec3& p) {
+    double total = 0.0;
+    for (uint32_t t = 0; t < body.triangleCount; ++t) {
+        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]) - p;
+        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]) - p;
+        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]) - p;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        const double numerator = a.dot(b.cross(c));
+        const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+        total += 2.0 * std::atan2(numerator, denominator);
+    }
+    return total / (4.0 * M_PI);
+}
+
+/// Distance from p to the body surface (brute force).
+double distanceToSurface(const RenderMeshView& body, const Vec3& p) {
+    double best = 1e30;
+    for (uint32_t t = 0; t < body.triangleCount; ++t) {
+        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]);
+        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]);
+        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]);
+        // Ericson's closest point on a triangle, by regions.
+        const Vec3 ab = b - a, ac = c - a, ap = p - a;
+        const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+        Vec3 q;
+        if (d1 <= 0 && d2 <= 0) {
+            q = a;
+        } else {
+            const Vec3 bp = p - b;
+            const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+            const Vec3 cp = p - c;
+            const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+            const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+            if (d3 >= 0 && d4 <= d3) q = b;
+            else if (d6 >= 0 && d5 <= d6) q = c;
+            else if (vc <= 0 && d1 >= 0 && d3 <= 0) q = a + d1 / (d1 - d3) * ab;
+            else if (vb <= 0 && d2 >= 0 && d6 <= 0) q = a + d2 / (d2 - d6) * ac;
+            else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) q = b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+            else {
+                const double denom = 1.0 / (va + vb + vc);
+                q = a + ab * (vb * denom) + ac * (vc * denom);
+            }
+        }
+        best = std::min(best, (p - q).norm());
+    }
+    return best;
+}
+
+struct Case {
+    GarmentKind kind;
+    const char* clip;
+    double rate;  ///< [Hz]
+    double speed; ///< [m/s] the clip's locomotion
+};
+
+class GarmentOnBody : public ::testing::TestWithParam<Case> {};
+
+/// A garment close to the camera (finest level, mesh collision) on the mannequin's walk or run:
+/// no simulated vertex ends deeper inside the body than the collision thickness, measured with a
+/// winding number over the posed body, independent of the solver's own contacts.
+TEST_P(GarmentOnBody, StaysOutsideTheBody) {
+    const Case c = GetParam();
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    WorldPtr world(World::create(desc).value());
+    ClothAssetDesc asset;
+    asset.kind = c.kind;
+    if (c.kind == GarmentKind::Skirt) asset.width = 1.3, asset.length = 0.55, asset.cellSize = 0.16;
+    if (c.kind == GarmentKind::Cape) asset.width = 0.6;
+    const AssetId assetId = world->addClothAsset(asset).value();
+    CharacterDesc cd;
+    cd.body = world->addMannequinBody({}).value();
+    cd.clip = c.clip;
+    const CharacterId character = world->addCharacter(cd).value();
+    const GarmentId garment = world->addGarment(assetId, character, {}).value();
+
+    const double dt = 1.0 / c.rate, seconds = 3.0;
+    const int frames = int(seconds * c.rate);
+    double deepest = 0.0;
+    int inside = 0, checked = 0;
+    for (int f = 1; f <= frames; ++f) {
+        const double z = c.speed * f * dt, position[3] = {0.0, 0.0, z};
+        ASSERT_TRUE(world->setCharacterRoot(character, position, 0.0).isOk());
+        const CameraDesc camera = test::cameraLookingAt(Vec3(-1.2, 1.4, z - 2.2), Vec3(0, 1.0, z));
+        ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
+        ASSERT_TRUE(world->step(dt).isOk());
+        const GarmentStats stats = world->garmentStats(garment).value();
+        ASSERT_FALSE(stats.failed) << "frame " << f;
+        if (f % 5 != 0 || f < int(0.5 * c.rate)) continue; // after half a second of settling
+        ASSERT_EQ(stats.level, int(asset.levelCount) - 1) << "close up: the render mesh is the simulated mesh";
+        const RenderMeshView cloth = world->renderMesh(garment).value();
+        const RenderMeshView body = world->characterMesh(character).value();
+        for (uint32_t v = 0; v < cloth.vertexCount; ++v) {
+            const Vec3 p = vertexOf(cloth.positions, v);
+            ASSERT_TRUE(isFinite(p));
+            ++checked;
+            if (windingNumber(body, p) < 0.5) continue;
+            ++inside;
+            deepest = std::max(deepest, distanceToSurface(body, p));
+        }
+    }
+    std::printf("%s on %s at %.0f Hz: %d of %d vertex checks inside the body, deepest %.2f mm (thickness %.1f mm)\n",
+                c.kind == GarmentKind::Cape ? "cape" : "skirt", c.clip, c.rate, inside, checked, 1e3 * deepest,
+                1e3 * asset.thickness);
+    EXPECT_LE(deepest, asset.thickness);
+}
+
+INSTANTIATE_TEST_SUITE_P(Mannequin, GarmentOnBody,
+                         ::testing::Values(Case{GarmentKind::Cape, "walk", 60, 1.35}, Case{GarmentKind::Cape, "walk", 30, 1.35},
+                                           Case{GarmentKind::Cape, "run", 60, 4.6}, Case{GarmentKind::Cape, "run", 30, 4.6},
+                                           Case{GarmentKind::Skirt, "walk", 60, 1.35}, Case{GarmentKind::Skirt, "walk", 30, 1.35},
+                                           Case{GarmentKind::Skirt, "run", 60, 4.6}, Case{GarmentKind::Skirt, "run", 30, 4.6}));
+
+} // namespace
+} // namespace cc
