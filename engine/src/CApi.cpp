@@ -123,6 +123,7 @@ void cc_garment_desc_init(cc_garment_desc* d) {
     if (!d) return;
     d->version = CC_DESC_VERSION;
     d->importance = cc::GarmentDesc{}.importance;
+    d->force_level = cc::GarmentDesc{}.forceLevel;
 }
 
 void cc_camera_desc_init(cc_camera_desc* d) {
@@ -260,6 +261,7 @@ cc_status cc_world_add_garment(cc_world* w, cc_asset_id asset, cc_character_id c
     return guarded(w, [&] {
         cc::GarmentDesc x;
         x.importance = d->importance;
+        x.forceLevel = d->force_level;
         auto id = w->world->addGarment(asset, c, x);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());

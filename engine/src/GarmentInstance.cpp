@@ -50,7 +50,11 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
                                                                  CharacterId characterId, const GarmentDesc& desc) {
     if (!(std::isfinite(desc.importance) && desc.importance > 0.0))
         return Status::invalidArgument("GarmentDesc.importance must be > 0");
+    if (desc.forceLevel < -1 || desc.forceLevel >= int(asset->levels.size()))
+        return Status::invalidArgument("GarmentDesc.forceLevel must be -1 or a level of the asset (0.." +
+                                       std::to_string(asset->levels.size() - 1) + ")");
     std::unique_ptr<GarmentInstance> g(new GarmentInstance());
+    g->mForceLevel = desc.forceLevel;
     g->mAsset = std::move(asset);
     g->mAssetIndex = assetIndex;
     g->mCharacterId = characterId;

@@ -45,6 +45,7 @@ public:
     uint32_t assetIndex() const { return mAssetIndex; }
     CharacterId character() const { return mCharacterId; }
     double importance() const { return mImportance; }
+    int forcedLevel() const { return mForceLevel; }
     int level() const { return mLevel; }
     const cloth::ClothSimulation& simulation() const { return *mSim; }
 
@@ -79,6 +80,7 @@ private:
     uint32_t mAssetIndex = 0;
     CharacterId mCharacterId{};
     double mImportance = 1.0;
+    int mForceLevel = -1;
     Vec3 mPlacement = Vec3::Zero();         ///< asset space -> body bind space
     int mLevel = 0;
     std::unique_ptr<cloth::ClothSimulation> mSim;

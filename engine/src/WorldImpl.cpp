@@ -259,7 +259,15 @@ Status WorldImpl::scheduleFrame(double dt) {
     settings.refineWithSlack = mDesc.spendSlack;
     if (Status s = lod::scheduleGarments(settings, mCameras, mProfiles, mRequests, mSchedules); !s) return s;
     mFrameStats.budgetCpuMs = settings.budgetMs;
-    for (std::size_t i = 0; i < mItems.size(); ++i) mItems[i].garment->schedule = mSchedules[i];
+    for (std::size_t i = 0; i < mItems.size(); ++i) {
+        lod::GarmentSchedule& s = mSchedules[i];
+        if (const int forced = mItems[i].garment->forcedLevel(); forced >= 0) {
+            s.level = forced;
+            s.updateInterval = 1;
+            s.solver = lod::SolverChoice::ImplicitPcg;
+        }
+        mItems[i].garment->schedule = s;
+    }
     return Status::ok();
 }
 

@@ -7,6 +7,8 @@
 //            [--budget MS] [--threads T] [--width W] [--height H]
 //   cc_crowd --scaling   crowd scaling benchmark: 10 -> 1000 characters, with LOD and at full
 //                        resolution, and the 1 -> 2 thread speed-up
+//   cc_crowd --tradeoff  a cape on a walking mannequin at each uniform level against the finest:
+//                        vertices, ms per step, RMS and max distance
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,10 +21,14 @@
 #include <vector>
 
 #include "Plaza.h"
+#include "Studies.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/render/OffscreenRenderer.h"
 
 namespace {
+
+using crowd::percentile;
+using crowd::WorldPtr;
 
 struct Options {
     int characters = 200;
@@ -34,6 +40,7 @@ struct Options {
     int threads = 0;
     int width = 960, height = 540;
     bool scaling = false;
+    bool tradeoff = false;
 };
 
 bool parse(int argc, char** argv, Options& o) {
@@ -56,6 +63,7 @@ bool parse(int argc, char** argv, Options& o) {
         else if (a == "--width") o.width = std::atoi(next("--width"));
         else if (a == "--height") o.height = std::atoi(next("--height"));
         else if (a == "--scaling") o.scaling = true;
+        else if (a == "--tradeoff") o.tradeoff = true;
         else {
             std::fprintf(stderr, "unknown option '%s' (see the comment at the top of samples/crowd/main.cpp)\n", a.c_str());
             return false;
@@ -67,18 +75,6 @@ bool parse(int argc, char** argv, Options& o) {
     }
     return true;
 }
-
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t k = std::min(v.size() - 1, std::size_t(std::ceil(p * double(v.size())) - 1));
-    return v[k];
-}
-
-struct WorldDeleter {
-    void operator()(cc::World* w) const { cc::World::destroy(w); }
-};
-using WorldPtr = std::unique_ptr<cc::World, WorldDeleter>;
 
 void progress(int frame, int frames, double ms) {
     if (frame % 30 != 0 && frame != frames) return;
@@ -112,116 +108,13 @@ cc::Status renderFrame(cc::World& world, const crowd::Plaza& plaza, cc::render::
     return renderer.writePng(path);
 }
 
-/// One run of the plaza; returns per-frame total ms (after a warm-up second) and the last stats.
-struct RunResult {
-    std::vector<double> frameMs;
-    std::vector<double> perLevelMean;
-    double meanUpdated = 0.0, meanAsleep = 0.0, meanVisible = 0.0, maxErrorPx = 0.0;
-    uint32_t failed = 0;
-    bool ok = true;
-};
-
-RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs) {
-    RunResult result;
-    WorldPtr world(cc::World::create(desc).value());
-    crowd::PlazaSettings ps;
-    ps.characters = characters;
-    auto plaza = crowd::Plaza::create(*world, ps);
-    if (!plaza.isOk()) {
-        std::fprintf(stderr, "plaza: %s\n", plaza.status().message().c_str());
-        result.ok = false;
-        return result;
-    }
-    result.perLevelMean.assign(16, 0.0);
-    int measured = 0;
-    for (int f = 1; f <= warmup + frames; ++f) {
-        (void)plaza.value().update(*world, f / 60.0, 1920, 1080);
-        if (cc::Status s = world->step(1.0 / 60.0); !s) {
-            std::fprintf(stderr, "step: %s\n", s.message().c_str());
-            result.ok = false;
-            return result;
-        }
-        const cc::FrameStats& fs = world->frameStats();
-        result.failed += fs.failed;
-        if (f <= warmup) continue;
-        ++measured;
-        result.frameMs.push_back(fs.totalMs);
-        for (int l = 0; l < 16; ++l) result.perLevelMean[l] += fs.garmentsPerLevel[l];
-        result.meanUpdated += fs.updated;
-        result.meanAsleep += fs.asleep;
-        result.meanVisible += fs.visible;
-        for (cc::GarmentId g : plaza.value().garments()) {
-            const cc::GarmentStats gs = world->garmentStats(g).value();
-            if (gs.updateInterval > 0 && gs.screenRadiusPx > 0.0)
-                result.maxErrorPx = std::max(result.maxErrorPx, gs.predictedErrorPx);
-        }
-        if (fs.totalMs > stopAboveMs) break;
-    }
-    for (double& x : result.perLevelMean) x /= std::max(measured, 1);
-    result.meanUpdated /= std::max(measured, 1);
-    result.meanAsleep /= std::max(measured, 1);
-    result.meanVisible /= std::max(measured, 1);
-    return result;
-}
-
-int scaling(const Options& o) {
-    std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads\n", o.budgetMs,
-                o.threads > 0 ? std::to_string(o.threads).c_str() : "all");
-    std::printf("%-10s %-6s %10s %10s %8s %8s %8s  %s\n", "characters", "mode", "median ms", "p99 ms", "updated",
-                "asleep", "err px", "garments per level L0..L4 (mean)");
-    const int counts[] = {10, 30, 100, 300, 1000};
-    int fitLod = 0, fitFull = 0;
-    bool fullStillFits = true;
-    for (int n : counts) {
-        for (int full = 0; full <= 1; ++full) {
-            if (full && !fullStillFits) {
-                std::printf("%-10d %-6s %10s (skipped: a smaller crowd already missed 16.7 ms)\n", n, "full", "-");
-                continue;
-            }
-            cc::WorldDesc desc;
-            desc.maxThreads = uint32_t(o.threads);
-            desc.frameBudgetMs = o.budgetMs;
-            if (full) { // every garment at its finest level, every frame
-                desc.pixelTolerance = 1e-9;
-                desc.frameBudgetMs = 1e9;
-                desc.maxUpdateInterval = 1;
-            }
-            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
-            if (!r.ok) return 1;
-            const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
-            std::printf("%-10d %-6s %10.2f %10.2f %8.1f %8.1f %8.2f  %.1f %.1f %.1f %.1f %.1f%s\n", n,
-                        full ? "full" : "lod", median, p99, r.meanUpdated, r.meanAsleep, r.maxErrorPx,
-                        r.perLevelMean[0], r.perLevelMean[1], r.perLevelMean[2], r.perLevelMean[3],
-                        r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
-            std::fflush(stdout);
-            if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
-            if (full && p99 > 16.7) fullStillFits = false;
-        }
-    }
-    std::printf("largest tested crowd within 16.7 ms p99: %d with LOD, %d at full resolution\n", fitLod, fitFull);
-    // 1 -> 2 threads on the same crowd.
-    double ms[2] = {0.0, 0.0};
-    for (int t = 1; t <= 2; ++t) {
-        cc::WorldDesc desc;
-        desc.maxThreads = uint32_t(t);
-        desc.frameBudgetMs = 1e9; // the same work on both: the speed-up, not the budget, is measured
-        desc.fixedCostModel = true;
-        desc.budgetThreads = 2;
-        const RunResult r = runPlaza(100, desc, 120, 30, 1e9);
-        if (!r.ok) return 1;
-        ms[t - 1] = percentile(r.frameMs, 0.5);
-    }
-    std::printf("100 characters, same work: median %.2f ms on 1 thread, %.2f ms on 2: speed-up %.2fx\n", ms[0], ms[1],
-                ms[0] / ms[1]);
-    return 0;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
     Options o;
     if (!parse(argc, argv, o)) return 2;
-    if (o.scaling) return scaling(o);
+    if (o.scaling) return crowd::runScaling(o.budgetMs, o.threads);
+    if (o.tradeoff) return crowd::runTradeoff();
 
     cc::WorldDesc desc;
     desc.maxThreads = uint32_t(std::max(o.threads, 0));

@@ -62,6 +62,7 @@ TEST(CApi, DescDefaultsAreTheCppDefaults) {
     cc_garment_desc g;
     cc_garment_desc_init(&g);
     EXPECT_EQ(g.importance, GarmentDesc{}.importance);
+    EXPECT_EQ(g.force_level, GarmentDesc{}.forceLevel);
     cc_camera_desc cam;
     cc_camera_desc_init(&cam);
     EXPECT_EQ(0, std::memcmp(cam.view_projection, CameraDesc{}.viewProjection, sizeof(cam.view_projection)));

@@ -90,6 +90,8 @@ struct CharacterDesc {
 /// One garment worn by a character.
 struct GarmentDesc {
     double importance = 1.0;  ///< [-] weight of its error when the budget is tight; > 0
+    int32_t forceLevel = -1;  ///< [-] simulate at this uniform level every frame, whatever the
+                              ///< schedule says (cut-scenes, reference runs); -1 = scheduled
 };
 
 /// A camera: how the world lands on screen (column-major, OpenGL clip convention).

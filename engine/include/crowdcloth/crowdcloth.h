@@ -79,6 +79,7 @@ typedef struct cc_character_desc {
 typedef struct cc_garment_desc {
     uint32_t version;
     double importance;       /* [-] > 0 */
+    int32_t force_level;     /* uniform level to simulate every frame; -1 = scheduled */
 } cc_garment_desc;
 
 typedef struct cc_camera_desc {

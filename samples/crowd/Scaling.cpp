@@ -1,0 +1,117 @@
+#include <cstdio>
+#include <string>
+
+#include "Plaza.h"
+#include "Studies.h"
+
+namespace crowd {
+namespace {
+
+/// One run of the plaza; returns per-frame total ms (after a warm-up second) and the last stats.
+struct RunResult {
+    std::vector<double> frameMs;
+    std::vector<double> perLevelMean;
+    double meanUpdated = 0.0, meanAsleep = 0.0, meanVisible = 0.0, maxErrorPx = 0.0;
+    uint32_t failed = 0;
+    bool ok = true;
+};
+
+RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs) {
+    RunResult result;
+    WorldPtr world(cc::World::create(desc).value());
+    PlazaSettings ps;
+    ps.characters = characters;
+    auto plaza = Plaza::create(*world, ps);
+    if (!plaza.isOk()) {
+        std::fprintf(stderr, "plaza: %s\n", plaza.status().message().c_str());
+        result.ok = false;
+        return result;
+    }
+    result.perLevelMean.assign(16, 0.0);
+    int measured = 0;
+    for (int f = 1; f <= warmup + frames; ++f) {
+        (void)plaza.value().update(*world, f / 60.0, 1920, 1080);
+        if (cc::Status s = world->step(1.0 / 60.0); !s) {
+            std::fprintf(stderr, "step: %s\n", s.message().c_str());
+            result.ok = false;
+            return result;
+        }
+        const cc::FrameStats& fs = world->frameStats();
+        result.failed += fs.failed;
+        if (f <= warmup) continue;
+        ++measured;
+        result.frameMs.push_back(fs.totalMs);
+        for (int l = 0; l < 16; ++l) result.perLevelMean[l] += fs.garmentsPerLevel[l];
+        result.meanUpdated += fs.updated;
+        result.meanAsleep += fs.asleep;
+        result.meanVisible += fs.visible;
+        for (cc::GarmentId g : plaza.value().garments()) {
+            const cc::GarmentStats gs = world->garmentStats(g).value();
+            if (gs.updateInterval > 0 && gs.screenRadiusPx > 0.0)
+                result.maxErrorPx = std::max(result.maxErrorPx, gs.predictedErrorPx);
+        }
+        if (fs.totalMs > stopAboveMs) break;
+    }
+    for (double& x : result.perLevelMean) x /= std::max(measured, 1);
+    result.meanUpdated /= std::max(measured, 1);
+    result.meanAsleep /= std::max(measured, 1);
+    result.meanVisible /= std::max(measured, 1);
+    return result;
+}
+
+} // namespace
+
+int runScaling(double budgetMs, int threadCount) {
+    std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads\n", budgetMs,
+                threadCount > 0 ? std::to_string(threadCount).c_str() : "all");
+    std::printf("%-10s %-6s %10s %10s %8s %8s %8s  %s\n", "characters", "mode", "median ms", "p99 ms", "updated",
+                "asleep", "err px", "garments per level L0..L4 (mean)");
+    const int counts[] = {10, 30, 100, 300, 1000};
+    int fitLod = 0, fitFull = 0;
+    bool fullStillFits = true;
+    for (int n : counts) {
+        for (int full = 0; full <= 1; ++full) {
+            if (full && !fullStillFits) {
+                std::printf("%-10d %-6s %10s (skipped: a smaller crowd already missed 16.7 ms)\n", n, "full", "-");
+                continue;
+            }
+            cc::WorldDesc desc;
+            desc.maxThreads = uint32_t(threadCount);
+            desc.frameBudgetMs = budgetMs;
+            if (full) { // every garment at its finest level, every frame
+                desc.pixelTolerance = 1e-9;
+                desc.frameBudgetMs = 1e9;
+                desc.maxUpdateInterval = 1;
+            }
+            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
+            if (!r.ok) return 1;
+            const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
+            std::printf("%-10d %-6s %10.2f %10.2f %8.1f %8.1f %8.2f  %.1f %.1f %.1f %.1f %.1f%s\n", n,
+                        full ? "full" : "lod", median, p99, r.meanUpdated, r.meanAsleep, r.maxErrorPx,
+                        r.perLevelMean[0], r.perLevelMean[1], r.perLevelMean[2], r.perLevelMean[3],
+                        r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
+            std::fflush(stdout);
+            if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
+            if (full && p99 > 16.7) fullStillFits = false;
+        }
+    }
+    std::printf("largest tested crowd within 16.7 ms p99: %d with LOD, %d at full resolution\n", fitLod, fitFull);
+    // 1 -> 2 threads on the same crowd.
+    double ms[2] = {0.0, 0.0};
+    for (int t = 1; t <= 2; ++t) {
+        cc::WorldDesc desc;
+        desc.maxThreads = uint32_t(t);
+        desc.frameBudgetMs = 1e9; // the same work on both: the speed-up, not the budget, is measured
+        desc.fixedCostModel = true;
+        desc.budgetThreads = 2;
+        const RunResult r = runPlaza(100, desc, 120, 30, 1e9);
+        if (!r.ok) return 1;
+        ms[t - 1] = percentile(r.frameMs, 0.5);
+    }
+    std::printf("100 characters, same work: median %.2f ms on 1 thread, %.2f ms on 2: speed-up %.2fx\n", ms[0], ms[1],
+                ms[0] / ms[1]);
+    return 0;
+}
+
+
+} // namespace crowd
