@@ -60,6 +60,24 @@ cc_status guarded(const cc_world* w, F&& f) {
 
 } // namespace
 
+/// Each C desc field next to its C++ field: one list serves both directions, so the two APIs
+/// cannot drift apart field by field.
+#define CC_WORLD_FIELDS(X)                                                                           \
+    X(max_threads, maxThreads) X(frame_budget_ms, frameBudgetMs) X(pixel_tolerance, pixelTolerance)  \
+    X(max_update_interval, maxUpdateInterval)
+#define CC_ASSET_FIELDS(X)                                                                           \
+    X(width, width) X(length, length) X(cell_size, cellSize) X(level_count, levelCount)              \
+    X(render_level, renderLevel) X(areal_density, arealDensity) X(stretch_stiffness, stretchStiffness) \
+    X(shear_stiffness, shearStiffness) X(bend_stiffness, bendStiffness) X(damping, damping)          \
+    X(thickness, thickness) X(friction, friction) X(fold_radius, foldRadius)
+#define CC_MANNEQUIN_FIELDS(X)                                                                       \
+    X(height, height) X(shoulder_width, shoulderWidth) X(hip_width, hipWidth)                        \
+    X(waist_width, waistWidth) X(limb_girth, limbGirth)
+#define CC_CHARACTER_FIELDS(X)                                                                       \
+    X(body, body) X(clip, clip) X(clip_time, clipTime) X(playback_rate, playbackRate) X(yaw, yaw)
+#define CC_TO_C(c, cpp) d->c = x.cpp;
+#define CC_TO_CPP(c, cpp) x.cpp = d->c;
+
 extern "C" {
 
 uint32_t cc_get_version(void) { return cc::getVersion(); }
@@ -68,12 +86,10 @@ void cc_world_desc_init(cc_world_desc* d) {
     if (!d) return;
     const cc::WorldDesc defaults;
     d->version = CC_DESC_VERSION;
-    d->max_threads = defaults.maxThreads;
-    d->frame_budget_ms = defaults.frameBudgetMs;
-    d->pixel_tolerance = defaults.pixelTolerance;
-    d->fixed_cost_model = defaults.fixedCostModel;
-    for (int k = 0; k < 3; ++k) d->gravity[k] = defaults.gravity[k];
-    d->max_update_interval = defaults.maxUpdateInterval;
+    const cc::WorldDesc& x = defaults;
+    CC_WORLD_FIELDS(CC_TO_C)
+    d->fixed_cost_model = x.fixedCostModel;
+    for (int k = 0; k < 3; ++k) d->gravity[k] = x.gravity[k];
 }
 
 void cc_cloth_asset_desc_init(cc_cloth_asset_desc* d) {
@@ -81,42 +97,22 @@ void cc_cloth_asset_desc_init(cc_cloth_asset_desc* d) {
     const cc::ClothAssetDesc x;
     d->version = CC_DESC_VERSION;
     d->kind = cc_garment_kind(x.kind);
-    d->width = x.width;
-    d->length = x.length;
-    d->cell_size = x.cellSize;
-    d->level_count = x.levelCount;
-    d->render_level = x.renderLevel;
-    d->areal_density = x.arealDensity;
-    d->stretch_stiffness = x.stretchStiffness;
-    d->shear_stiffness = x.shearStiffness;
-    d->bend_stiffness = x.bendStiffness;
-    d->damping = x.damping;
-    d->thickness = x.thickness;
-    d->friction = x.friction;
-    d->fold_radius = x.foldRadius;
+    CC_ASSET_FIELDS(CC_TO_C)
 }
 
 void cc_mannequin_desc_init(cc_mannequin_desc* d) {
     if (!d) return;
     const cc::MannequinDesc x;
     d->version = CC_DESC_VERSION;
-    d->height = x.height;
-    d->shoulder_width = x.shoulderWidth;
-    d->hip_width = x.hipWidth;
-    d->waist_width = x.waistWidth;
-    d->limb_girth = x.limbGirth;
+    CC_MANNEQUIN_FIELDS(CC_TO_C)
 }
 
 void cc_character_desc_init(cc_character_desc* d) {
     if (!d) return;
     const cc::CharacterDesc x;
     d->version = CC_DESC_VERSION;
-    d->body = x.body;
-    d->clip = x.clip;
-    d->clip_time = x.clipTime;
-    d->playback_rate = x.playbackRate;
+    CC_CHARACTER_FIELDS(CC_TO_C)
     for (int k = 0; k < 3; ++k) d->position[k] = x.position[k];
-    d->yaw = x.yaw;
 }
 
 void cc_garment_desc_init(cc_garment_desc* d) {
@@ -140,14 +136,11 @@ cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
     *out_world = nullptr;
     if (!d || d->version != CC_DESC_VERSION) return CC_INVALID_ARGUMENT;
     return guarded(nullptr, [&] {
-        cc::WorldDesc desc;
-        desc.maxThreads = d->max_threads;
-        desc.frameBudgetMs = d->frame_budget_ms;
-        desc.pixelTolerance = d->pixel_tolerance;
-        desc.fixedCostModel = d->fixed_cost_model != 0;
-        for (int k = 0; k < 3; ++k) desc.gravity[k] = d->gravity[k];
-        desc.maxUpdateInterval = d->max_update_interval;
-        auto world = cc::World::create(desc);
+        cc::WorldDesc x;
+        CC_WORLD_FIELDS(CC_TO_CPP)
+        x.fixedCostModel = d->fixed_cost_model != 0;
+        for (int k = 0; k < 3; ++k) x.gravity[k] = d->gravity[k];
+        auto world = cc::World::create(x);
         if (!world.isOk()) return toC(world.status().code());
         *out_world = new cc_world{world.value(), {}, {}};
         return CC_OK;
@@ -169,19 +162,7 @@ cc_status cc_world_add_cloth_asset(cc_world* w, const cc_cloth_asset_desc* d, cc
     return guarded(w, [&] {
         cc::ClothAssetDesc x;
         x.kind = cc::GarmentKind(d->kind);
-        x.width = d->width;
-        x.length = d->length;
-        x.cellSize = d->cell_size;
-        x.levelCount = d->level_count;
-        x.renderLevel = d->render_level;
-        x.arealDensity = d->areal_density;
-        x.stretchStiffness = d->stretch_stiffness;
-        x.shearStiffness = d->shear_stiffness;
-        x.bendStiffness = d->bend_stiffness;
-        x.damping = d->damping;
-        x.thickness = d->thickness;
-        x.friction = d->friction;
-        x.foldRadius = d->fold_radius;
+        CC_ASSET_FIELDS(CC_TO_CPP)
         auto id = w->world->addClothAsset(x);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());
@@ -194,11 +175,7 @@ cc_status cc_world_add_mannequin_body(cc_world* w, const cc_mannequin_desc* d, c
     CC_CHECK_OUT(w, out, "out_body");
     return guarded(w, [&] {
         cc::MannequinDesc x;
-        x.height = d->height;
-        x.shoulderWidth = d->shoulder_width;
-        x.hipWidth = d->hip_width;
-        x.waistWidth = d->waist_width;
-        x.limbGirth = d->limb_girth;
+        CC_MANNEQUIN_FIELDS(CC_TO_CPP)
         auto id = w->world->addMannequinBody(x);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());
@@ -223,12 +200,8 @@ cc_status cc_world_add_character(cc_world* w, const cc_character_desc* d, cc_cha
     CC_CHECK_OUT(w, out, "out_character");
     return guarded(w, [&] {
         cc::CharacterDesc x;
-        x.body = d->body;
-        x.clip = d->clip;
-        x.clipTime = d->clip_time;
-        x.playbackRate = d->playback_rate;
+        CC_CHARACTER_FIELDS(CC_TO_CPP)
         for (int k = 0; k < 3; ++k) x.position[k] = d->position[k];
-        x.yaw = d->yaw;
         auto id = w->world->addCharacter(x);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());
