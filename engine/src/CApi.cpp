@@ -84,9 +84,8 @@ uint32_t cc_get_version(void) { return cc::getVersion(); }
 
 void cc_world_desc_init(cc_world_desc* d) {
     if (!d) return;
-    const cc::WorldDesc defaults;
+    const cc::WorldDesc x;
     d->version = CC_DESC_VERSION;
-    const cc::WorldDesc& x = defaults;
     CC_WORLD_FIELDS(CC_TO_C)
     d->fixed_cost_model = x.fixedCostModel;
     for (int k = 0; k < 3; ++k) d->gravity[k] = x.gravity[k];
