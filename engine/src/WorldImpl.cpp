@@ -372,11 +372,18 @@ Status WorldImpl::step(double dt) {
     mWork.clear();
     for (std::size_t i = 0; i < mItems.size(); ++i)
         if (mItems[i].garment->stats.updated || mItems[i].garment->schedule.visible) mWork.push_back(i);
-    parallelForEach(int64_t(mWork.size()), threadCount(), [&](int64_t k) {
+    auto task = [&](int64_t k) {
         const FrameItem& item = mItems[mWork[k]];
         if (item.garment->stats.updated) updateGarment(item, dt);
         item.garment->publish(*item.character);
-    });
+    };
+    if (mDesc.taskRunner) {
+        using Task = decltype(task);
+        mDesc.taskRunner(mDesc.taskRunnerUserData, uint32_t(mWork.size()),
+                         [](void* context, uint32_t index) { (*static_cast<Task*>(context))(index); }, &task);
+    } else {
+        parallelForEach(int64_t(mWork.size()), threadCount(), task);
+    }
     fs.simulateMs = msSince(phase);
 
     // Totals and learning, in item order so the sums are the same for any thread count.

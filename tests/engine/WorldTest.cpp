@@ -1,5 +1,7 @@
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -125,6 +127,38 @@ TEST(World, StateHashIsTheSameForAnyThreadCount) {
     for (std::size_t t = 1; t < hashes.size(); ++t)
         for (int frame = 0; frame < kFrames; ++frame)
             ASSERT_EQ(hashes[t][frame], hashes[0][frame]) << (t + 1) << " threads, frame " << frame;
+}
+
+/// A host job system: two std::threads taking task indices from an atomic counter.
+void runOnTwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t), void* context) {
+    std::atomic<uint32_t> next{0};
+    auto worker = [&] {
+        for (uint32_t i = next++; i < count; i = next++) task(context, i);
+    };
+    std::thread other(worker);
+    worker();
+    other.join();
+}
+
+TEST(World, HostTaskRunnerGivesTheSameStateAsOpenMp) {
+    std::vector<uint64_t> hashes;
+    for (bool host : {false, true}) {
+        WorldDesc desc;
+        desc.budgetThreads = 2;
+        desc.frameBudgetMs = 2.0;
+        if (host) desc.taskRunner = runOnTwoThreads;
+        WorldPtr world = makeWorld(desc);
+        ClothAssetDesc capeDesc;
+        capeDesc.levelCount = 3;
+        const auto crowd = test::addWalkingCrowd(*world, world->addClothAsset(capeDesc).value(), 6);
+        for (int frame = 1; frame <= 60; ++frame) {
+            test::walkCrowd(*world, crowd, frame / 60.0);
+            followWithCamera(*world, Vec3(4.0, 1.0, crowd.speed * frame / 60.0), Vec3(-2.0, 1.0, -8.0));
+            ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+        }
+        hashes.push_back(world->stateHash());
+    }
+    EXPECT_EQ(hashes[0], hashes[1]);
 }
 
 TEST(World, RejectsBadCallsNamingThem) {

@@ -13,6 +13,11 @@ using BodyId = cc_body_id;
 using CharacterId = cc_character_id;
 using GarmentId = cc_garment_id;
 
+/// A host's job system: runs task(context, i) for every i in [0, count), in any order and on any
+/// threads, and returns when all have finished. Tasks are independent (each writes only its own
+/// garment), so the result does not depend on how they are run.
+using TaskRunner = void (*)(void* userData, uint32_t count, void (*task)(void* context, uint32_t index), void* context);
+
 /// World-wide choices, fixed at creation.
 struct WorldDesc {
     uint32_t maxThreads = 0;          ///< [-] threads that step garments; 0 = all OpenMP offers
@@ -26,6 +31,8 @@ struct WorldDesc {
                                       ///< of learning them from measured times; with learned costs
                                       ///< the chosen levels follow this machine's timing
     double gravity[3] = {0.0, -9.81, 0.0}; ///< [m/s^2] finite
+    TaskRunner taskRunner = nullptr;  ///< the host's job system for the garment tasks; null = OpenMP
+    void* taskRunnerUserData = nullptr;
     uint32_t maxUpdateInterval = 8;   ///< [frames] slowest update of a far garment, power of two
     uint32_t maxStepHalvings = 6;     ///< [-] the implicit step splits a step that creates energy, up to
                                       ///< 2^this substeps; [0, 10]

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 namespace cc {
 
@@ -23,7 +24,7 @@ void parallelForImpl(int64_t count, const ParallelSettings& settings, void* cont
 template <typename Body>
 void parallelFor(int64_t count, const ParallelSettings& settings, Body&& body) {
     detail::parallelForImpl(count, settings, &body, [](void* ctx, int64_t begin, int64_t end) {
-        (*static_cast<Body*>(ctx))(begin, end);
+        (*static_cast<std::remove_reference_t<Body>*>(ctx))(begin, end);
     });
 }
 
@@ -33,7 +34,7 @@ void parallelFor(int64_t count, const ParallelSettings& settings, Body&& body) {
 template <typename Body>
 void parallelForEach(int64_t count, int maxThreads, Body&& body) {
     detail::parallelForEachImpl(count, maxThreads, &body, [](void* ctx, int64_t index) {
-        (*static_cast<Body*>(ctx))(index);
+        (*static_cast<std::remove_reference_t<Body>*>(ctx))(index);
     });
 }
 
