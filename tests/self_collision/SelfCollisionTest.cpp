@@ -234,6 +234,7 @@ struct GarmentRun {
     int intersectingAfterAnyStep = 0;
     uint32_t failSafe = 0, zoneIterations = 0, stopped = 0, unresolved = 0, maxImpulseIterations = 0;
     uint32_t capped = 0, ccdTests = 0;
+    uint64_t boxes = 0;
     double resolveSeconds = 0.0;
     uint64_t hash = 0;
 };
@@ -264,6 +265,7 @@ GarmentRun runGarment(cloth::ClothSimulation& sim, const ClothMesh& mesh, const 
         run.resolveSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - clockStart).count();
         run.capped += stats.cappedTests;
         run.ccdTests += stats.ccdTests;
+        run.boxes += stats.ccdBoxes;
         EXPECT_TRUE(resolved.isOk()) << resolved.message();
         for (std::size_t v = 0; v < x1.size(); ++v) {
             state.positions[v] = x1[v];
@@ -288,9 +290,9 @@ GarmentRun runGarment(cloth::ClothSimulation& sim, const ClothMesh& mesh, const 
 
 void printRun(const char* name, const GarmentRun& run) {
     std::printf("[ self-collision %s ] %d steps clean; fail-safe steps %u, zone passes %u, stopped vertices %u, "
-                "unresolved %u, max impulse passes %u; %u continuous tests (%u capped), %.1f ms per step\n",
+                "unresolved %u, max impulse passes %u; %u continuous tests (%u capped, %llu boxes), %.1f ms per step\n",
                 name, run.steps, run.failSafe, run.zoneIterations, run.stopped, run.unresolved,
-                run.maxImpulseIterations, run.ccdTests, run.capped, 1e3 * run.resolveSeconds / std::max(1, run.steps));
+                run.maxImpulseIterations, run.ccdTests, run.capped, static_cast<unsigned long long>(run.boxes), 1e3 * run.resolveSeconds / std::max(1, run.steps));
 }
 
 TEST(SelfCollisionGarment, SheetDroppedOnFloorFoldsWithoutIntersections) {

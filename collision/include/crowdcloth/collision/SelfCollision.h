@@ -19,7 +19,7 @@ struct SelfCollisionSettings {
     double repulsionFraction = 0.25;  ///< [-] share of the overlap below `thickness` undone per step;
                                       ///< [0, 1]; 0 = only stop approaching pairs
     double ccdGap = 1.0e-4;           ///< [m] gap the continuous tests keep; a pair that starts closer
-                                      ///< keeps half its start gap; (0, thickness]
+                                      ///< keeps a quarter of its start gap; (0, thickness]
     int impulseIterations = 8;        ///< [-] continuous test + inelastic impulse passes before the
                                       ///< impact zones take over; >= 1
     int zoneIterations = 32;          ///< [-] impact-zone passes before the last resort (stopping the
@@ -44,6 +44,7 @@ struct SelfCollisionStats {
     uint32_t stoppedVertices = 0;      ///< vertices held at x0 by the last resort
     uint32_t unresolved = 0;           ///< collisions left: only pinned vertices move in them
     uint32_t cappedTests = 0;          ///< continuous tests that hit their box budget (conservative)
+    uint64_t ccdBoxes = 0;             ///< search boxes over all continuous tests (their cost)
 };
 
 /// Self-collision of one garment over one step (Bridson, Fedkiw & Anderson 2002, "Robust treatment
