@@ -170,11 +170,8 @@ Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdate
 
     start = Clock::now();
     cloth::ClothState& state = mSim->state();
-    if (ctx.collider) {
-        if (Status s = mContactStage.gather(bodies, mStepStart, state.positions, contactSettings, mContacts); !s)
-            return s;
-        if (Status s = cloth::resolveContacts(mContacts, response, constraints, state); !s) return s;
-    }
+    // Self-collision first: its impulses know nothing of the body, so the body's corrections have
+    // the last word and no vertex ends inside the body.
     if (ctx.selfCollision) {
         if (mSelfLevel != mLevel) {
             collision::SelfCollisionSettings selfSettings;
@@ -194,6 +191,11 @@ Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdate
         for (std::size_t v = 0; v < state.positions.size(); ++v)
             state.velocities[v] = (state.positions[v] - mStepStart[v]) / ctx.dt;
         outReport.failSafes = selfStats.failSafeActivations;
+    }
+    if (ctx.collider) {
+        if (Status s = mContactStage.gather(bodies, mStepStart, state.positions, contactSettings, mContacts); !s)
+            return s;
+        if (Status s = cloth::resolveContacts(mContacts, response, constraints, state); !s) return s;
     }
     collisionMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     outReport.collisionMs = collisionMs;

@@ -294,7 +294,7 @@ void WorldImpl::updateGarment(const FrameItem& item, double dt) {
         GarmentUpdateContext ctx;
         ctx.dt = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
         ctx.continuous = schedule.collision == lod::CollisionDetail::MeshContinuous;
-        ctx.selfCollision = schedule.selfCollision;
+        ctx.selfCollision = schedule.selfCollision && mDesc.selfCollision;
         if (schedule.collision != lod::CollisionDetail::None) {
             auto collider = schedule.collision == lod::CollisionDetail::Proxies
                                 ? item.character->proxyColliderAt(*mDevice, mTime)
@@ -396,7 +396,7 @@ Status WorldImpl::step(double dt) {
         s.solver = SolverKind(sc.solver);
         s.updateInterval = uint32_t(sc.updateInterval);
         s.collision = CollisionKind(sc.collision);
-        s.selfCollision = sc.selfCollision;
+        s.selfCollision = sc.selfCollision && mDesc.selfCollision;
         s.screenRadiusPx = sc.screenRadiusPx;
         s.predictedErrorPx = sc.predictedErrorPx;
         s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;

@@ -53,6 +53,26 @@ TEST(World, CapeFollowsAWalkingMannequin) {
     EXPECT_LT(stats.maxStrain, 0.05);
 }
 
+TEST(World, SelfCollisionRunsForTheLargestGarmentWhenEnabled) {
+    WorldDesc desc;
+    desc.selfCollision = true;
+    WorldPtr world = makeWorld(desc);
+    ClothAssetDesc capeDesc;
+    capeDesc.width = 0.6;
+    const auto crowd = test::addWalkingCrowd(*world, world->addClothAsset(capeDesc).value(), 1);
+    bool ran = false;
+    for (int frame = 1; frame <= 30; ++frame) {
+        test::walkCrowd(*world, crowd, frame / 60.0);
+        const Vec3 root = crowd.starts[0] + Vec3(0, 0, crowd.speed * frame / 60.0);
+        followWithCamera(*world, root + Vec3(0, 1.0, 0), Vec3(-0.6, 0.3, -1.2));
+        ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+        const GarmentStats stats = world->garmentStats(crowd.garments[0]).value();
+        ASSERT_FALSE(stats.failed) << "frame " << frame;
+        ran = ran || (stats.selfCollision && stats.updated);
+    }
+    EXPECT_TRUE(ran) << "a garment filling the screen gets self-collision";
+}
+
 TEST(World, RenderTopologyNeverChanges) {
     WorldDesc desc;
     desc.spendSlack = false; // levels follow the pixel tolerance alone
