@@ -132,10 +132,10 @@ INSTANTIATE_TEST_SUITE_P(Mannequin, GarmentOnBody,
                                            Case{GarmentKind::Cape, "run", 60, 4.6}, Case{GarmentKind::Cape, "run", 30, 4.6},
                                            Case{GarmentKind::Skirt, "walk", 60, 1.35}, Case{GarmentKind::Skirt, "walk", 30, 1.35},
                                            Case{GarmentKind::Skirt, "run", 60, 4.6}, Case{GarmentKind::Skirt, "run", 30, 4.6}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                             return std::string(info.param.kind == GarmentKind::Cape ? "Cape" : "Skirt") +
-                                    (std::string(info.param.clip) == "walk" ? "Walk" : "Run") +
-                                    std::to_string(int(info.param.rate)) + "Hz";
+                         [](const ::testing::TestParamInfo<Case>& caseInfo) {
+                             return std::string(caseInfo.param.kind == GarmentKind::Cape ? "Cape" : "Skirt") +
+                                    (std::string(caseInfo.param.clip) == "walk" ? "Walk" : "Run") +
+                                    std::to_string(int(caseInfo.param.rate)) + "Hz";
                          });
 
 } // namespace
