@@ -263,7 +263,9 @@ TEST(Import, JoinIdenticalVerticesChangesCesiumManCount) {
 void expectError(const Result<Character>& r, const std::string& path, const std::string& fragment) {
     ASSERT_FALSE(r.isOk()) << path << " was accepted";
     EXPECT_NE(r.status().message().find(path), std::string::npos) << r.status().message();
-    if (!fragment.empty()) EXPECT_NE(r.status().message().find(fragment), std::string::npos) << r.status().message();
+    if (!fragment.empty()) {
+        EXPECT_NE(r.status().message().find(fragment), std::string::npos) << r.status().message();
+    }
 }
 
 TEST(Import, MissingEmptyAndUnsupportedFilesAreNamed) {
