@@ -52,6 +52,9 @@ cloth::IntegratorKind integratorFor(lod::SolverChoice solver) {
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
 
+/// [px] projected radius from which a garment gets the implicit step's full step-size control.
+constexpr double kHeroRadiusPx = 150.0;
+
 } // namespace
 
 WorldImpl::WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device)
@@ -282,11 +285,14 @@ void WorldImpl::updateGarment(const FrameItem& item, double dt) {
     settings.gravity = Vec3(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
     settings.parallel.maxThreads = 1; // garments run in parallel; one thread each (measured faster)
     // Step-size control is what keeps a garment pressed by the body mesh from gaining energy
-    // (measured on a cape on the walking mannequin: 0.2-0.6% strain with it, 10% without it, held
-    // only by the strain limiter); a garment against proxies is small on screen and takes one split.
-    settings.implicit.maxHalvings = schedule.collision >= lod::CollisionDetail::Mesh
-                                        ? int(mDesc.maxStepHalvings)
-                                        : std::min(1, int(mDesc.maxStepHalvings));
+    // (measured on a cape on the walking mannequin: 0.2-0.6% strain with 6 halvings, 10% held only
+    // by the strain limiter with 0-2), but a step split 64 times costs 64 steps: the worst frames of
+    // a crowd came from it. So the full depth goes to garments that fill the screen, two halvings
+    // to the rest against the mesh, one against proxies.
+    const int fullDepth = int(mDesc.maxStepHalvings);
+    settings.implicit.maxHalvings = schedule.screenRadiusPx >= kHeroRadiusPx ? fullDepth
+                                    : schedule.collision >= lod::CollisionDetail::Mesh ? std::min(2, fullDepth)
+                                                                                       : std::min(1, fullDepth);
     settings.strainLimit = mDesc.strainLimit;
     auto configured = g.configure(schedule.level, settings);
     Status status = configured.status();
