@@ -88,7 +88,7 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     g->mLevel = 0;
     g->mRenderIndices.reserve(3 * g->mAsset->renderTriangles.size());
     for (const auto& t : g->mAsset->renderTriangles) g->mRenderIndices.insert(g->mRenderIndices.end(), t.begin(), t.end());
-    g->publish(character);
+    g->publish(character, true);
     return g;
 }
 
@@ -112,8 +112,9 @@ Result<bool> GarmentInstance::configure(int level, const cloth::SimulationSettin
         return false;
     const CookedLevel& from = mAsset->levels[mLevel];
     const CookedLevel& to = mAsset->levels[level];
-    std::vector<Vec3> before;
-    localRenderPositions(before);
+    // What is on screen now (including any fade still running from an earlier switch).
+    std::vector<Vec3> before = mLocalRender;
+    if (before.empty()) localRenderPositions(before);
 
     lod::GarmentHierarchy h = from.hierarchy;
     if (Status s = h.readState(from.active, mSim->state().positions, mSim->state().velocities); !s) return s;
@@ -207,31 +208,36 @@ void GarmentInstance::localRenderPositions(std::vector<Vec3>& out) const {
     mAsset->levels[mLevel].render.apply(mSim->state().positions, out);
 }
 
-void GarmentInstance::publish(const CharacterInstance& character) {
-    localRenderPositions(mLocalRender);
-    if (mMorphFramesLeft > 0) {
-        const double fade = double(mMorphFramesLeft) / kMorphFrames;
-        for (std::size_t r = 0; r < mLocalRender.size(); ++r) mLocalRender[r] += fade * mMorph[r];
-        --mMorphFramesLeft;
+void GarmentInstance::publish(const CharacterInstance& character, bool stateChanged) {
+    // The shape in the character's frame changes only when the garment was updated (or is still
+    // fading a level switch); otherwise the frame only moves it with its character.
+    if (stateChanged || mMorphFramesLeft > 0 || mLocalRender.empty()) {
+        localRenderPositions(mLocalRender);
+        if (mMorphFramesLeft > 0) {
+            const double fade = double(mMorphFramesLeft) / kMorphFrames;
+            for (std::size_t r = 0; r < mLocalRender.size(); ++r) mLocalRender[r] += fade * mMorph[r];
+            --mMorphFramesLeft;
+        }
+        mNormals.assign(mLocalRender.size(), Vec3::Zero());
+        for (const auto& t : mAsset->renderTriangles) {
+            const Vec3 areaNormal = (mLocalRender[t[1]] - mLocalRender[t[0]]).cross(mLocalRender[t[2]] - mLocalRender[t[0]]);
+            for (uint32_t v : t) mNormals[v] += areaNormal;  // area-weighted vertex normals
+        }
+        for (Vec3& normal : mNormals) {
+            const double len = normal.norm();
+            normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitY();
+        }
     }
     const Mat3 rotation = character.rotation();
     const std::size_t n = mLocalRender.size();
     mRenderPositions.resize(3 * n);
     mRenderNormals.resize(3 * n);
-    std::vector<Vec3>& world = mLocalRender;
-    for (std::size_t r = 0; r < n; ++r) world[r] = rotation * world[r] + character.position;
-    std::vector<Vec3>& normals = mNormals;
-    normals.assign(n, Vec3::Zero());
-    for (const auto& t : mAsset->renderTriangles) {
-        const Vec3 areaNormal = (world[t[1]] - world[t[0]]).cross(world[t[2]] - world[t[0]]);
-        for (uint32_t v : t) normals[v] += areaNormal;  // area-weighted vertex normals
-    }
     for (std::size_t r = 0; r < n; ++r) {
-        const double len = normals[r].norm();
-        const Vec3 unit = len > 0.0 ? Vec3(normals[r] / len) : Vec3::UnitY();
+        const Vec3 p = rotation * mLocalRender[r] + character.position;
+        const Vec3 normal = rotation * mNormals[r];
         for (int k = 0; k < 3; ++k) {
-            mRenderPositions[3 * r + k] = float(world[r][k]);
-            mRenderNormals[3 * r + k] = float(unit[k]);
+            mRenderPositions[3 * r + k] = float(p[k]);
+            mRenderNormals[3 * r + k] = float(normal[k]);
         }
     }
 }

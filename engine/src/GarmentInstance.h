@@ -62,8 +62,9 @@ public:
     Vec3 localCentre() const { return mAsset->centroid + mPlacement; }
     /// One simulation update over ctx.dt with the character's body as it is this frame.
     Status update(CharacterInstance& character, const GarmentUpdateContext& ctx, GarmentUpdateReport& outReport);
-    /// Writes the world-space render mesh (positions and normals as floats).
-    void publish(const CharacterInstance& character);
+    /// Writes the world-space render mesh (positions and normals as floats); `stateChanged` says
+    /// whether the simulation moved since the last publish.
+    void publish(const CharacterInstance& character, bool stateChanged);
 
     RenderMeshView renderView() const;
     /// Kinetic energy per unit mass [J/kg]: the garment sleeps when this is tiny and unseen.

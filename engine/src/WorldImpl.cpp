@@ -381,7 +381,7 @@ Status WorldImpl::step(double dt) {
     auto task = [&](int64_t k) {
         const FrameItem& item = mItems[mWork[k]];
         if (item.garment->stats.updated) updateGarment(item, dt);
-        item.garment->publish(*item.character);
+        item.garment->publish(*item.character, item.garment->stats.updated);
     };
     if (mDesc.taskRunner) {
         using Task = decltype(task);

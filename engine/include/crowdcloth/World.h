@@ -33,7 +33,7 @@ struct WorldDesc {
     double gravity[3] = {0.0, -9.81, 0.0}; ///< [m/s^2] finite
     TaskRunner taskRunner = nullptr;  ///< the host's job system for the garment tasks; null = OpenMP
     void* taskRunnerUserData = nullptr;
-    uint32_t maxUpdateInterval = 8;   ///< [frames] slowest update of a far garment, power of two
+    uint32_t maxUpdateInterval = 16;  ///< [frames] slowest update of a far garment, power of two
     uint32_t maxStepHalvings = 6;     ///< [-] the implicit step splits a step that creates energy, up to
                                       ///< 2^this substeps; [0, 10]
     double strainLimit = 0.1;         ///< [-] Provot limit on edge strain after each update (with tethers
