@@ -27,16 +27,20 @@ double CostModel::formulaMs(SolverChoice solver, std::size_t vertexCount, int su
 double CostModel::predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount,
                             int substeps) const {
     if (mMode == Mode::Learned) {
-        auto it = mLearnedMs.find({asset, level, static_cast<int>(solver)});
-        if (it != mLearnedMs.end()) return it->second;
+        auto it = mLearned.find({asset, level, static_cast<int>(solver)});
+        if (it != mLearned.end()) return it->second.mean + 2.0 * it->second.deviation;
     }
     return formulaMs(solver, vertexCount, substeps);
 }
 
 void CostModel::record(uint32_t asset, int level, SolverChoice solver, double measuredMs) {
     if (mMode != Mode::Learned || !std::isfinite(measuredMs) || measuredMs <= 0.0) return;
-    auto [it, inserted] = mLearnedMs.try_emplace({asset, level, static_cast<int>(solver)}, measuredMs);
-    if (!inserted) it->second += mCoefficients.learningRate * (measuredMs - it->second);
+    auto [it, inserted] = mLearned.try_emplace({asset, level, static_cast<int>(solver)}, Learned{measuredMs, 0.0});
+    if (inserted) return;
+    Learned& l = it->second;
+    const double rate = mCoefficients.learningRate;
+    l.deviation += rate * (std::abs(measuredMs - l.mean) - l.deviation);
+    l.mean += rate * (measuredMs - l.mean);
 }
 
 } // namespace cc::lod

@@ -26,6 +26,13 @@ TEST(CostModel, LearnedModelConvergesToMeasuredTimes) {
     EXPECT_NE(model.predictMs(3, 2, SolverChoice::ImplicitPcg, 10, 1), 2.5) << "other levels keep their seed";
 }
 
+TEST(CostModel, LearnedModelPlansForTheSpread) {
+    CostModel model(CostModel::Mode::Learned);
+    // Alternating 1 ms and 3 ms updates: mean 2, mean absolute deviation 1 -> predicts ~4 ms.
+    for (int i = 0; i < 400; ++i) model.record(0, 0, SolverChoice::ImplicitPcg, i % 2 ? 3.0 : 1.0);
+    EXPECT_NEAR(model.predictMs(0, 0, SolverChoice::ImplicitPcg, 10, 1), 4.0, 0.25);
+}
+
 TEST(CostModel, ValidateNamesTheField) {
     CostCoefficients c;
     c.learningRate = 0.0;

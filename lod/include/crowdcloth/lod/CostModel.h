@@ -23,8 +23,9 @@ struct CostCoefficients {
 ///
 /// Fixed: `perUpdateMs + vertices * perVertexMs[solver] * substeps`, deterministic, for tests and
 /// reproducible runs. Learned (the default for real use): the same formula seeds each (asset,
-/// level, solver) entry, then an exponential moving average of the measured times replaces it, so
-/// the scheduler follows this machine and this scene.
+/// level, solver) entry, then exponential moving averages of the measured time and of its absolute
+/// deviation replace it, and the prediction is mean + 2 deviations: a frame's worst case is set by
+/// the updates that split their step, not by the average one.
 class CostModel {
 public:
     enum class Mode { Fixed, Learned };
@@ -45,7 +46,11 @@ private:
 
     Mode mMode;
     CostCoefficients mCoefficients;
-    std::map<std::tuple<uint32_t, int, int>, double> mLearnedMs;
+    struct Learned {
+        double mean = 0.0;       ///< [ms]
+        double deviation = 0.0;  ///< [ms] mean absolute deviation
+    };
+    std::map<std::tuple<uint32_t, int, int>, Learned> mLearned;
 };
 
 } // namespace cc::lod
