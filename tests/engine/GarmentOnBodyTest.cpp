@@ -1,5 +1,6 @@
 #include <cmath>
 #include <memory>
+#include <ostream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -74,6 +75,11 @@ struct Case {
     double rate;  ///< [Hz]
     double speed; ///< [m/s] the clip's locomotion
 };
+
+/// Names the case in gtest's output (the default would print the clip pointer's bytes).
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << (c.kind == GarmentKind::Cape ? "cape" : "skirt") << " " << c.clip << " " << c.rate << " Hz";
+}
 
 class GarmentOnBody : public ::testing::TestWithParam<Case> {};
 
