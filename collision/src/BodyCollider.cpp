@@ -1,5 +1,7 @@
 #include "crowdcloth/collision/BodyCollider.h"
 
+#include "QueryInput.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -307,16 +309,6 @@ const BodyColliderStats& BodyCollider::stats() const { return mImpl->stats; }
 
 namespace {
 
-Status checkPoints(Span<const Vec3> points, const char* what) {
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        if (!isFinite(points[i])) {
-            return Status::invalidArgument(std::string(what) + ": cloth vertex " + std::to_string(i) +
-                                           " has a non-finite position");
-        }
-    }
-    return Status::ok();
-}
-
 struct ProximitySearch {
     const BodyCollider::Impl* body;
     Vec3 p;
@@ -358,7 +350,7 @@ Status BodyCollider::queryProximity(Span<const Vec3> points, const ContactQuery&
                                     std::vector<Contact>& outContacts) const {
     outContacts.clear();
     if (Status s = query.validate(); !s) return s;
-    if (Status s = checkPoints(points, "BodyCollider::queryProximity"); !s) return s;
+    if (Status s = detail::checkPoints(points, "BodyCollider::queryProximity"); !s) return s;
     const Impl& body = *mImpl;
     const double reach = query.reach();
     // One slot per point, filled in parallel, then compacted in index order: sorted by vertex and
@@ -463,13 +455,7 @@ bool sweptCallback(RTCPointQueryFunctionArguments* args) {
 Status BodyCollider::queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
                                      std::vector<Contact>& outContacts) const {
     outContacts.clear();
-    if (Status s = query.validate(); !s) return s;
-    if (start.size() != end.size()) {
-        return Status::invalidArgument("BodyCollider::queryContinuous: " + std::to_string(start.size()) +
-                                       " start positions but " + std::to_string(end.size()) + " end positions");
-    }
-    if (Status s = checkPoints(start, "BodyCollider::queryContinuous (start)"); !s) return s;
-    if (Status s = checkPoints(end, "BodyCollider::queryContinuous (end)"); !s) return s;
+    if (Status s = detail::checkContinuousQuery(start, end, query, "BodyCollider"); !s) return s;
     const Impl& body = *mImpl;
     // The swept test reports first contact within a quarter of the thickness: a vertex resting at
     // the thickness is left to the proximity contact, one about to cross is caught before it does.

@@ -1,5 +1,7 @@
 #include "crowdcloth/collision/CapsuleCollider.h"
 
+#include "QueryInput.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -39,16 +41,6 @@ Closest closestOnCapsule(const Vec3& p, const Capsule& c) {
         normal = axis.squaredNorm() > 0.0 ? axis.unitOrthogonal() : Vec3::UnitY();
     }
     return {dist - c.radius, s, normal};
-}
-
-Status checkPoints(Span<const Vec3> points, const char* what) {
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        if (!isFinite(points[i])) {
-            return Status::invalidArgument(std::string(what) + ": cloth vertex " + std::to_string(i) +
-                                           " has a non-finite position");
-        }
-    }
-    return Status::ok();
 }
 
 } // namespace
@@ -103,7 +95,7 @@ Status CapsuleCollider::queryProximity(Span<const Vec3> points, const ContactQue
                                        std::vector<Contact>& outContacts) const {
     outContacts.clear();
     if (Status s = query.validate(); !s) return s;
-    if (Status s = checkPoints(points, "CapsuleCollider::queryProximity"); !s) return s;
+    if (Status s = detail::checkPoints(points, "CapsuleCollider::queryProximity"); !s) return s;
     for (uint32_t i = 0; i < points.size(); ++i) {
         Contact best;
         best.vertex = UINT32_MAX;
@@ -132,13 +124,7 @@ Status CapsuleCollider::queryProximity(Span<const Vec3> points, const ContactQue
 Status CapsuleCollider::queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
                                         std::vector<Contact>& outContacts) const {
     outContacts.clear();
-    if (Status s = query.validate(); !s) return s;
-    if (start.size() != end.size()) {
-        return Status::invalidArgument("CapsuleCollider::queryContinuous: " + std::to_string(start.size()) +
-                                       " start positions but " + std::to_string(end.size()) + " end positions");
-    }
-    if (Status s = checkPoints(start, "CapsuleCollider::queryContinuous (start)"); !s) return s;
-    if (Status s = checkPoints(end, "CapsuleCollider::queryContinuous (end)"); !s) return s;
+    if (Status s = detail::checkContinuousQuery(start, end, query, "CapsuleCollider"); !s) return s;
     const double contactGap = 0.25 * query.thickness;  // as BodyCollider: first touch within thickness / 4
     const double tolerance = 1e-3 * contactGap;
     for (uint32_t i = 0; i < start.size(); ++i) {
