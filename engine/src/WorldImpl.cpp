@@ -212,16 +212,16 @@ Status WorldImpl::setFrameBudget(double milliseconds) {
     return Status::ok();
 }
 
-const lod::GarmentProfile& WorldImpl::profileOf(uint32_t assetIndex) { return mProfiles[mProfileOfAsset[assetIndex]]; }
-
 Status WorldImpl::scheduleFrame(double dt) {
-    // One profile per asset, costed by the current cost model.
-    mProfiles.clear();
-    mProfileOfAsset.assign(mAssets.size() + 64, 0);
+    // One profile per asset, costed by the current cost model; the vectors keep their capacity
+    // from frame to frame (no allocation after the first frame).
+    std::size_t profileCount = 0;
     mAssets.forEach([&](auto handle, const AssetRecord& record) {
         if (handle.index1 >= mProfileOfAsset.size()) mProfileOfAsset.resize(handle.index1 + 1, 0);
-        mProfileOfAsset[handle.index1] = uint32_t(mProfiles.size());
-        lod::GarmentProfile profile;
+        mProfileOfAsset[handle.index1] = uint32_t(profileCount);
+        if (profileCount == mProfiles.size()) mProfiles.emplace_back();
+        lod::GarmentProfile& profile = mProfiles[profileCount++];
+        profile.levels.resize(record.asset->levels.size());
         for (std::size_t l = 0; l < record.asset->levels.size(); ++l) {
             const CookedLevel& level = record.asset->levels[l];
             const std::size_t n = level.active.mesh.vertexCount();
@@ -234,10 +234,10 @@ Status WorldImpl::scheduleFrame(double dt) {
                 lp.costMs[int(lod::SolverChoice::ExplicitEuler)] = mCostModel.predictMs(
                     handle.index1, int(l), lod::SolverChoice::ExplicitEuler, n, level.explicitSubsteps);
             }
-            profile.levels.push_back(lp);
+            profile.levels[l] = lp;
         }
-        mProfiles.push_back(std::move(profile));
     });
+    mProfiles.resize(profileCount);
 
     mRequests.resize(mItems.size());
     mSchedules.resize(mItems.size());

@@ -55,7 +55,6 @@ private:
     int threadCount() const;
     Status scheduleFrame(double dt);
     void updateGarment(const FrameItem& item, double dt);
-    const lod::GarmentProfile& profileOf(uint32_t assetIndex);
 
     WorldDesc mDesc;
     lod::CostModel mCostModel;

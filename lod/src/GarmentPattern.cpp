@@ -116,16 +116,30 @@ Status GarmentPattern::validate() const {
     return Status::ok();
 }
 
-Result<GarmentPattern> GarmentPattern::cape(double width, double height, double cellSize) {
-    for (Status s : {checkSize(width, "cape", "width"), checkSize(height, "cape", "height"),
-                     checkSize(cellSize, "cape", "cellSize")}) {
+namespace {
+
+/// The panel every builder starts from: sizes checked (named after the garment and its width
+/// parameter) and the base grid chosen so squares are about cellSize on a side.
+Result<PanelDesc> sizedPanel(const char* garment, const char* widthName, double width, const char* heightName,
+                             double height, double cellSize, uint32_t minColumns) {
+    for (Status s : {checkSize(width, garment, widthName), checkSize(height, garment, heightName),
+                     checkSize(cellSize, garment, "cellSize")}) {
         if (!s) return s;
     }
     PanelDesc panel;
     panel.width = width;
     panel.height = height;
-    panel.columns = squaresFor(width, cellSize, 1);
+    panel.columns = squaresFor(width, cellSize, minColumns);
     panel.rows = squaresFor(height, cellSize, 1);
+    return panel;
+}
+
+} // namespace
+
+Result<GarmentPattern> GarmentPattern::cape(double width, double height, double cellSize) {
+    auto sized = sizedPanel("cape", "width", width, "height", height, cellSize, 1);
+    if (!sized.isOk()) return sized.status();
+    PanelDesc panel = sized.value();
     panel.origin = Vec3(-0.5 * width, 0.0, 0.0);
     GarmentPattern pattern;
     pattern.panels.push_back(panel);
@@ -134,16 +148,10 @@ Result<GarmentPattern> GarmentPattern::cape(double width, double height, double 
 }
 
 Result<GarmentPattern> GarmentPattern::skirt(double circumference, double length, double cellSize) {
-    for (Status s : {checkSize(circumference, "skirt", "circumference"), checkSize(length, "skirt", "length"),
-                     checkSize(cellSize, "skirt", "cellSize")}) {
-        if (!s) return s;
-    }
-    PanelDesc panel;
+    auto sized = sizedPanel("skirt", "circumference", circumference, "length", length, cellSize, 3);
+    if (!sized.isOk()) return sized.status();
+    PanelDesc panel = sized.value();
     panel.shape = PanelShape::Tube;
-    panel.width = circumference;
-    panel.height = length;
-    panel.columns = squaresFor(circumference, cellSize, 3);
-    panel.rows = squaresFor(length, cellSize, 1);
     GarmentPattern pattern;
     pattern.panels.push_back(panel);
     if (Status s = pattern.validate(); !s) return s;
@@ -151,15 +159,9 @@ Result<GarmentPattern> GarmentPattern::skirt(double circumference, double length
 }
 
 Result<GarmentPattern> GarmentPattern::dress(double width, double length, double cellSize) {
-    for (Status s : {checkSize(width, "dress", "width"), checkSize(length, "dress", "length"),
-                     checkSize(cellSize, "dress", "cellSize")}) {
-        if (!s) return s;
-    }
-    PanelDesc front;
-    front.width = width;
-    front.height = length;
-    front.columns = squaresFor(width, cellSize, 1);
-    front.rows = squaresFor(length, cellSize, 1);
+    auto sized = sizedPanel("dress", "width", width, "length", length, cellSize, 1);
+    if (!sized.isOk()) return sized.status();
+    PanelDesc front = sized.value();
     const double depth = 0.1 * width;
     front.origin = Vec3(-0.5 * width, 0.0, depth);
     PanelDesc back = front;
@@ -174,15 +176,10 @@ Result<GarmentPattern> GarmentPattern::dress(double width, double length, double
 }
 
 Result<GarmentPattern> GarmentPattern::poncho(double width, double length, double depth, double cellSize) {
-    for (Status s : {checkSize(width, "poncho", "width"), checkSize(length, "poncho", "length"),
-                     checkSize(depth, "poncho", "depth"), checkSize(cellSize, "poncho", "cellSize")}) {
-        if (!s) return s;
-    }
-    PanelDesc front;
-    front.width = width;
-    front.height = length;
-    front.columns = squaresFor(width, cellSize, 1);
-    front.rows = squaresFor(length, cellSize, 1);
+    auto sized = sizedPanel("poncho", "width", width, "length", length, cellSize, 1);
+    if (!sized.isOk()) return sized.status();
+    if (Status s = checkSize(depth, "poncho", "depth"); !s) return s;
+    PanelDesc front = sized.value();
     front.origin = Vec3(-0.5 * width, 0.0, 0.5 * depth);
     PanelDesc back = front;
     back.origin = Vec3(0.5 * width, 0.0, -0.5 * depth);
