@@ -77,11 +77,10 @@ Result<std::unique_ptr<MassSpringModel>> MassSpringModel::fromSprings(uint32_t v
     return model;
 }
 
-Result<std::unique_ptr<MassSpringModel>> MassSpringModel::fromMesh(const ClothMesh& mesh, const ClothTopology& topo,
-                                                                   const ClothMaterial& material) {
-    if (Status s = material.validate(); !s) return s;
+std::vector<Spring> provotSprings(const ClothMesh& mesh, const ClothTopology& topo, const ClothMaterial& material) {
     const auto& rest = mesh.restPositions;
     std::vector<Spring> springs;
+    springs.reserve(topo.edges.size() + topo.hinges.size());
     for (std::size_t e = 0; e < topo.edges.size(); ++e) {
         const auto [a, b] = topo.edges[e];
         double area = restArea(mesh, topo.edgeTriangles[e][0]);
@@ -108,7 +107,13 @@ Result<std::unique_ptr<MassSpringModel>> MassSpringModel::fromMesh(const ClothMe
                                std::sqrt(length2), SpringKind::Shear});
         }
     }
-    return fromSprings(static_cast<uint32_t>(mesh.vertexCount()), std::move(springs));
+    return springs;
+}
+
+Result<std::unique_ptr<MassSpringModel>> MassSpringModel::fromMesh(const ClothMesh& mesh, const ClothTopology& topo,
+                                                                   const ClothMaterial& material) {
+    if (Status s = material.validate(); !s) return s;
+    return fromSprings(static_cast<uint32_t>(mesh.vertexCount()), provotSprings(mesh, topo, material));
 }
 
 double MassSpringModel::energy(Span<const Vec3> positions) const {

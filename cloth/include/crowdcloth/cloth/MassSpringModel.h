@@ -20,6 +20,11 @@ struct Spring {
     SpringKind kind = SpringKind::Structural;
 };
 
+/// Provot's springs for a mesh (see MassSpringModel for the constants), in topology order:
+/// one spring per edge, then one per hinge. Shared by the force model and the substepped solvers,
+/// so every solver simulates the same springs.
+std::vector<Spring> provotSprings(const ClothMesh& mesh, const ClothTopology& topology, const ClothMaterial& material);
+
 /// Provot's mass-spring cloth (Provot 1995): structural springs along warp and weft, shear
 /// springs along diagonals, bend springs across every hinge.
 ///

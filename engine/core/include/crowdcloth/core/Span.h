@@ -11,6 +11,8 @@ class Span {
 public:
     constexpr Span() = default;
     constexpr Span(T* data, std::size_t size) : mData(data), mSize(size) {}
+    template <std::size_t N>
+    constexpr Span(T (&array)[N]) : mData(array), mSize(N) {}
     template <typename U>
     Span(std::vector<U>& v) : mData(v.data()), mSize(v.size()) {}
     template <typename U>

@@ -1,0 +1,365 @@
+#include "crowdcloth/cloth/SubstepSolver.h"
+
+#include <cmath>
+#include <string>
+
+// The kernels index disjoint rows of one array through several pointers; telling the compiler so
+// lets it vectorise across lanes.
+#define CC_RESTRICT __restrict__
+
+namespace cc::cloth {
+
+Status SubstepSettings::validate() const {
+    if (substeps < 1 || substeps > 4096)
+        return Status::invalidArgument("SubstepSettings.substeps = " + std::to_string(substeps) + " is outside [1, 4096]");
+    if (!(strainLimit >= 0.0 && strainLimit <= 10.0))
+        return Status::invalidArgument("SubstepSettings.strainLimit = " + std::to_string(strainLimit) +
+                                       " is outside [0, 10]");
+    if (iterations < 1 || iterations > 1000)
+        return Status::invalidArgument("SubstepSettings.iterations = " + std::to_string(iterations) +
+                                       " is outside [1, 1000]");
+    if (strainLimitPasses < 1 || strainLimitPasses > 1000)
+        return Status::invalidArgument("SubstepSettings.strainLimitPasses = " + std::to_string(strainLimitPasses) +
+                                       " is outside [1, 1000]");
+    if (!(contactThickness >= 0.0 && contactThickness <= 1.0))
+        return Status::invalidArgument("SubstepSettings.contactThickness = " + std::to_string(contactThickness) +
+                                       " m is outside [0, 1]");
+    if (Status s = friction.validate(); !s) return Status::invalidArgument("SubstepSettings." + s.message());
+    return Status::ok();
+}
+
+namespace {
+
+bool finite3(const double* x, int stride) {
+    return std::isfinite(x[0]) && std::isfinite(x[stride]) && std::isfinite(x[2 * stride]);
+}
+
+Status checkLane(const ClothLevel& level, const SubstepLane& lane, std::size_t index) {
+    const std::string where = "stepSubsteps: lane " + std::to_string(index);
+    if (lane.positions.size() != level.vertexCount() || lane.velocities.size() != level.vertexCount())
+        return Status::invalidArgument(where + " has " + std::to_string(lane.positions.size()) + " positions and " +
+                                       std::to_string(lane.velocities.size()) + " velocities for a level of " +
+                                       std::to_string(level.vertexCount()) + " vertices");
+    if (lane.targets.size() != level.attachedNodeCount())
+        return Status::invalidArgument(where + " has " + std::to_string(lane.targets.size()) + " targets for " +
+                                       std::to_string(level.attachedNodeCount()) + " attached nodes");
+    for (const Contact& c : lane.contacts)
+        if (c.vertex >= level.vertexCount())
+            return Status::invalidArgument(where + ": a contact names vertex " + std::to_string(c.vertex));
+    return Status::ok();
+}
+
+/// First non-finite input of a lane, described, or empty.
+std::string nonFiniteInput(const SubstepLane& lane) {
+    for (std::size_t v = 0; v < lane.positions.size(); ++v)
+        if (!isFinite(lane.positions[v]) || !isFinite(lane.velocities[v]))
+            return "vertex " + std::to_string(v) + " has a non-finite position or velocity";
+    for (std::size_t t = 0; t < lane.targets.size(); ++t)
+        if (!isFinite(lane.targets[t])) return "attached node " + std::to_string(t) + " has a non-finite target";
+    for (const Contact& c : lane.contacts)
+        if (!isFinite(c.point) || !isFinite(c.normal) || !isFinite(c.surfaceVelocity))
+            return "the contact of vertex " + std::to_string(c.vertex) + " is not finite";
+    if (!isFinite(lane.acceleration)) return "the acceleration is not finite";
+    return {};
+}
+
+/// The solver for W lanes; arrays are [node][coordinate][lane].
+template <int W>
+class Kernel {
+public:
+    Kernel(const ClothLevel& level, const SubstepFactor& factor, double dt, const SubstepSettings& settings,
+           SubstepWorkspace& w)
+        : mLevel(level), mFactor(factor), mDt(dt), mSettings(settings), mW(w) {}
+
+    void run(Span<const SubstepLane> lanes, Span<SubstepLaneReport> reports) {
+        gather(lanes);
+        const int n = mSettings.substeps;
+        for (int s = 0; s < n; ++s) substep(s, n);
+        int passes[W] = {};
+        if (mSettings.strainLimit > 0.0) limitStrain(passes);
+        for (std::size_t l = 0; l < lanes.size(); ++l) {
+            reports[l].strainLimitPasses = passes[l];
+            reports[l].contactCorrections = mCorrections[l];
+            if (!reports[l].status) continue;  // a non-finite input: keep the state
+            if (!finiteLane(int(l))) {
+                reports[l].status = Status::error(StatusCode::NumericalFailure,
+                                                  "stepSubsteps: the step produced a non-finite state; it was undone");
+                continue;
+            }
+            scatter(int(l), lanes[l]);
+        }
+    }
+
+private:
+    // Rows hold x, y, z of every lane ([coordinate][lane]), padded to the factor's SIMD pairs.
+    static constexpr int kRow = W == 1 ? 4 : W == 2 ? 8 : 3 * W;
+    double& at(std::vector<double>& a, uint32_t node, int c, int lane) const {
+        return a[std::size_t(node) * kRow + c * W + lane];
+    }
+
+    void gather(Span<const SubstepLane> lanes) {
+        const uint32_t nodes = mLevel.nodeCount();
+        const uint32_t attached = mLevel.attachedNodeCount();
+        for (auto* a : {&mW.positions, &mW.velocities, &mW.previous, &mW.predicted, &mW.solution})
+            a->assign(std::size_t(nodes) * kRow, 0.0);  // zero padding stays zero
+        mW.attachedStart.assign(std::size_t(attached) * kRow, 0.0);
+        mW.attachedEnd.assign(std::size_t(attached) * kRow, 0.0);
+        const auto& vertexOfNode = mLevel.vertexOfNode();
+        const uint32_t free = mLevel.freeNodeCount();
+        for (int l = 0; l < W; ++l) {
+            // Lanes past the batch repeat lane 0: their results are thrown away.
+            const SubstepLane& lane = lanes[std::size_t(l) < lanes.size() ? std::size_t(l) : 0];
+            for (uint32_t k = 0; k < nodes; ++k) {
+                const Vec3& x = lane.positions[vertexOfNode[k]];
+                const Vec3& v = lane.velocities[vertexOfNode[k]];
+                for (int c = 0; c < 3; ++c) at(mW.positions, k, c, l) = x[c], at(mW.velocities, k, c, l) = v[c];
+            }
+            for (uint32_t k = 0; k < attached; ++k)
+                for (int c = 0; c < 3; ++c) {
+                    at(mW.attachedStart, k, c, l) = at(mW.positions, free + k, c, l);
+                    at(mW.attachedEnd, k, c, l) = lane.targets[k][c];
+                }
+            for (int c = 0; c < 3; ++c) mAcceleration[c][l] = lane.acceleration[c];
+            auto& contacts = mW.contacts[l];
+            contacts.clear();
+            mCorrections[l] = 0;
+            if (std::size_t(l) >= lanes.size()) continue;
+            for (const Contact& c : lane.contacts) {
+                const uint32_t node = mLevel.nodeOfVertex()[c.vertex];
+                if (node >= free) continue;  // attached nodes follow their targets
+                contacts.push_back({node, c.normal, c.surfaceVelocity,
+                                    c.normal.dot(c.point) + mSettings.contactThickness});
+            }
+        }
+    }
+
+    void substep(int s, int n) {
+        const double h = mFactor.substep();
+        const double h2 = h * h;
+        const uint32_t free = mLevel.freeNodeCount();
+        const uint32_t nodes = mLevel.nodeCount();
+        const auto& mass = mLevel.nodeMasses();
+        double* x = mW.positions.data();
+        double* v = mW.velocities.data();
+        double* prev = mW.previous.data();
+        double* y = mW.predicted.data();
+        double* b = mW.solution.data();
+
+        // Inertial prediction y = x + h v + h^2 a; the iterations start from x = y.
+        for (uint32_t k = 0; k < free; ++k) {
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t o = std::size_t(k) * kRow + c * W;
+                for (int l = 0; l < W; ++l) {
+                    prev[o + l] = x[o + l];
+                    y[o + l] = x[o + l] + h * v[o + l] + h2 * mAcceleration[c][l];
+                    x[o + l] = y[o + l];
+                }
+            }
+        }
+        // Attached nodes on their way to the targets (exactly there after the last substep).
+        const bool last = s + 1 == n;
+        const double fraction = double(s + 1) / double(n);
+        for (uint32_t k = free; k < nodes; ++k) {
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t o = std::size_t(k) * kRow + c * W;
+                const std::size_t t = std::size_t(k - free) * kRow + c * W;
+                for (int l = 0; l < W; ++l) {
+                    prev[o + l] = x[o + l];
+                    const double start = mW.attachedStart[t + l], end = mW.attachedEnd[t + l];
+                    x[o + l] = last ? end : start + fraction * (end - start);
+                }
+            }
+        }
+        for (int it = 0; it < mSettings.iterations; ++it) {
+            localStep(x, y, b, mass, h2);
+            mFactor.solveInPlace(b, kRow);  // global step with the shared factor
+            for (std::size_t i = 0; i < std::size_t(free) * kRow; ++i) x[i] = b[i];
+        }
+
+        // Contacts: a vertex behind its moving plane is pushed onto it; Coulomb friction on the
+        // tangential motion relative to the surface, bounded by the push (position-level friction).
+        const double timeToEnd = mDt - (s + 1) * h;
+        const double muS = mSettings.friction.staticCoefficient, muK = mSettings.friction.kineticCoefficient;
+        for (int l = 0; l < W; ++l) {
+            for (const SubstepWorkspace::LaneContact& c : mW.contacts[l]) {
+                Vec3 p(at(mW.positions, c.node, 0, l), at(mW.positions, c.node, 1, l), at(mW.positions, c.node, 2, l));
+                const double offset = c.offsetAtEnd - timeToEnd * c.normal.dot(c.surfaceVelocity);
+                const double push = offset - c.normal.dot(p);
+                if (!(push > 0.0)) continue;
+                p += push * c.normal;
+                const Vec3 before(at(mW.previous, c.node, 0, l), at(mW.previous, c.node, 1, l),
+                                  at(mW.previous, c.node, 2, l));
+                const Vec3 slide = (p - before) - h * c.surfaceVelocity;
+                const Vec3 tangential = slide - c.normal * c.normal.dot(slide);
+                const double distance = tangential.norm();
+                if (distance <= muS * push) {
+                    p -= tangential;
+                } else if (distance > 0.0) {
+                    p -= tangential * std::min(1.0, muK * push / distance);
+                }
+                for (int k = 0; k < 3; ++k) at(mW.positions, c.node, k, l) = p[k];
+                ++mCorrections[l];
+            }
+        }
+
+        for (std::size_t i = 0; i < std::size_t(nodes) * kRow; ++i) v[i] = (x[i] - prev[i]) / h;
+    }
+
+    // The right-hand side M / h^2 y + sum_s k_s A_s^T p_s, with p_s the rest-length projection of
+    // spring s in the iterate x (an attached end is known, so its k x_b term joins the sum).
+    void localStep(const double* CC_RESTRICT x, const double* CC_RESTRICT y, double* CC_RESTRICT b,
+                   const std::vector<double>& mass, double h2) const {
+        const uint32_t free = mLevel.freeNodeCount();
+        for (uint32_t k = 0; k < free; ++k) {
+            const double inertia = mass[k] / h2;
+            const std::size_t o = std::size_t(k) * kRow;
+            for (int i = 0; i < kRow; ++i) b[o + i] = inertia * y[o + i];
+        }
+        for (const LevelSpring& sp : mLevel.freeSprings()) {
+            const double* CC_RESTRICT xa = x + std::size_t(sp.a) * kRow;
+            const double* CC_RESTRICT xb = x + std::size_t(sp.b) * kRow;
+            double* CC_RESTRICT ba = b + std::size_t(sp.a) * kRow;
+            double* CC_RESTRICT bb = b + std::size_t(sp.b) * kRow;
+            for (int l = 0; l < W; ++l) {
+                const double dx = xa[l] - xb[l], dy = xa[W + l] - xb[W + l], dz = xa[2 * W + l] - xb[2 * W + l];
+                const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+                const double scale = length > 0.0 ? sp.stiffness * sp.restLength / length : 0.0;
+                ba[l] += scale * dx, ba[W + l] += scale * dy, ba[2 * W + l] += scale * dz;
+                bb[l] -= scale * dx, bb[W + l] -= scale * dy, bb[2 * W + l] -= scale * dz;
+            }
+        }
+        for (const LevelSpring& sp : mLevel.attachedSprings()) {
+            const double* CC_RESTRICT xa = x + std::size_t(sp.a) * kRow;
+            const double* CC_RESTRICT xb = x + std::size_t(sp.b) * kRow;
+            double* CC_RESTRICT ba = b + std::size_t(sp.a) * kRow;
+            for (int l = 0; l < W; ++l) {
+                const double dx = xa[l] - xb[l], dy = xa[W + l] - xb[W + l], dz = xa[2 * W + l] - xb[2 * W + l];
+                const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+                const double scale = length > 0.0 ? sp.stiffness * sp.restLength / length : 0.0;
+                ba[l] += sp.stiffness * xb[l] + scale * dx;
+                ba[W + l] += sp.stiffness * xb[W + l] + scale * dy;
+                ba[2 * W + l] += sp.stiffness * xb[2 * W + l] + scale * dz;
+            }
+        }
+    }
+
+    // Provot's strain limit after the step, tethers first (see StrainLimiter).
+    void limitStrain(int (&outPasses)[W]) {
+        const double limit = mSettings.strainLimit;
+        const double tolerance = 1e-3 * limit;
+        const uint32_t free = mLevel.freeNodeCount();
+        const auto& mass = mLevel.nodeMasses();
+        const auto& tethers = mLevel.tethers();
+        double* x = mW.positions.data();
+        double* v = mW.velocities.data();
+        int lastCorrected[W];
+        for (int l = 0; l < W; ++l) lastCorrected[l] = -1;
+        int pass = 0;
+        for (; pass < mSettings.strainLimitPasses; ++pass) {
+            bool corrected[W] = {};
+            for (uint32_t k = 0; k < tethers.size(); ++k) {
+                double* xi = x + std::size_t(k) * kRow;
+                double* vi = v + std::size_t(k) * kRow;
+                const double* xa = x + std::size_t(tethers[k].anchor) * kRow;
+                const double maxLength = (1.0 + limit) * tethers[k].restLength;
+                for (int l = 0; l < W; ++l) {
+                    const double dx = xi[l] - xa[l], dy = xi[W + l] - xa[W + l], dz = xi[2 * W + l] - xa[2 * W + l];
+                    const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+                    if (!(length > maxLength * (1.0 + tolerance))) continue;
+                    const double scale = maxLength / length - 1.0;
+                    xi[l] += scale * dx, xi[W + l] += scale * dy, xi[2 * W + l] += scale * dz;
+                    vi[l] += scale * dx / mDt, vi[W + l] += scale * dy / mDt, vi[2 * W + l] += scale * dz / mDt;
+                    corrected[l] = true;
+                }
+            }
+            for (const LimitedEdge& e : mLevel.limitedEdges()) {
+                const double wa = e.a < free ? 1.0 / mass[e.a] : 0.0;
+                const double wb = e.b < free ? 1.0 / mass[e.b] : 0.0;
+                double* xa = x + std::size_t(e.a) * kRow;
+                double* xb = x + std::size_t(e.b) * kRow;
+                double* va = v + std::size_t(e.a) * kRow;
+                double* vb = v + std::size_t(e.b) * kRow;
+                const double maxLength = (1.0 + limit) * e.restLength;
+                for (int l = 0; l < W; ++l) {
+                    const double dx = xb[l] - xa[l], dy = xb[W + l] - xa[W + l], dz = xb[2 * W + l] - xa[2 * W + l];
+                    const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+                    if (!(length > maxLength + tolerance * e.restLength)) continue;
+                    const double scale = (length - maxLength) / (length * (wa + wb));
+                    const double sx = scale * dx, sy = scale * dy, sz = scale * dz;
+                    xa[l] += wa * sx, xa[W + l] += wa * sy, xa[2 * W + l] += wa * sz;
+                    xb[l] -= wb * sx, xb[W + l] -= wb * sy, xb[2 * W + l] -= wb * sz;
+                    va[l] += wa * sx / mDt, va[W + l] += wa * sy / mDt, va[2 * W + l] += wa * sz / mDt;
+                    vb[l] -= wb * sx / mDt, vb[W + l] -= wb * sy / mDt, vb[2 * W + l] -= wb * sz / mDt;
+                    corrected[l] = true;
+                }
+            }
+            bool any = false;
+            for (int l = 0; l < W; ++l) {
+                if (corrected[l]) lastCorrected[l] = pass;
+                any = any || corrected[l];
+            }
+            if (!any) break;
+        }
+        // As many sweeps as the lane alone would have run: up to its first clean sweep.
+        for (int l = 0; l < W; ++l) outPasses[l] = std::min(lastCorrected[l] + 2, mSettings.strainLimitPasses);
+    }
+
+    bool finiteLane(int l) const {
+        for (uint32_t k = 0; k < mLevel.nodeCount(); ++k) {
+            const std::size_t o = std::size_t(k) * kRow + l;
+            if (!finite3(&mW.positions[o], W) || !finite3(&mW.velocities[o], W)) return false;
+        }
+        return true;
+    }
+
+    void scatter(int l, const SubstepLane& lane) {
+        const auto& node = mLevel.nodeOfVertex();
+        for (std::size_t vtx = 0; vtx < node.size(); ++vtx) {
+            const std::size_t o = std::size_t(node[vtx]) * kRow + l;
+            lane.positions[vtx] = Vec3(mW.positions[o], mW.positions[o + W], mW.positions[o + 2 * W]);
+            lane.velocities[vtx] = Vec3(mW.velocities[o], mW.velocities[o + W], mW.velocities[o + 2 * W]);
+        }
+    }
+
+    const ClothLevel& mLevel;
+    const SubstepFactor& mFactor;
+    double mDt;
+    const SubstepSettings& mSettings;
+    SubstepWorkspace& mW;
+    double mAcceleration[3][W] = {};
+    uint32_t mCorrections[W] = {};
+};
+
+} // namespace
+
+Status stepSubsteps(const ClothLevel& level, const SubstepFactor& factor, double dt, const SubstepSettings& settings,
+                    Span<const SubstepLane> lanes, SubstepWorkspace& workspace, Span<SubstepLaneReport> outReports) {
+    if (Status s = settings.validate(); !s) return s;
+    if (!(dt > 0.0 && dt <= 1.0)) return Status::invalidArgument("stepSubsteps: dt = " + std::to_string(dt) + " s is outside (0, 1]");
+    if (lanes.empty() || lanes.size() > std::size_t(kMaxSubstepLanes))
+        return Status::invalidArgument("stepSubsteps: " + std::to_string(lanes.size()) + " lanes; need 1 to " +
+                                       std::to_string(kMaxSubstepLanes));
+    if (outReports.size() != lanes.size())
+        return Status::invalidArgument("stepSubsteps: one report per lane is needed");
+    const double h = dt / settings.substeps;
+    if (factor.size() != level.freeNodeCount() || std::abs(factor.substep() - h) > 1e-12 * h)
+        return Status::invalidArgument("stepSubsteps: the factor is for substeps of " + std::to_string(factor.substep()) +
+                                       " s and " + std::to_string(factor.size()) + " nodes; this step needs " +
+                                       std::to_string(h) + " s and " + std::to_string(level.freeNodeCount()));
+    for (std::size_t l = 0; l < lanes.size(); ++l) {
+        if (Status s = checkLane(level, lanes[l], l); !s) return s;
+        outReports[l] = SubstepLaneReport{};
+        if (const std::string bad = nonFiniteInput(lanes[l]); !bad.empty())
+            outReports[l].status = Status::error(StatusCode::NumericalFailure, "stepSubsteps: " + bad);
+    }
+    switch (lanes.size()) {
+    case 1: Kernel<1>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
+    case 2: Kernel<2>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
+    case 3:
+    case 4: Kernel<4>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
+    default: Kernel<8>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
+    }
+    return Status::ok();
+}
+
+} // namespace cc::cloth

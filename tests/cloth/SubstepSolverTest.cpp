@@ -1,0 +1,459 @@
+// The substepped local/global solver (cloth/SubstepSolver.h): closed forms, equilibria, the
+// convergence of its iterations, contacts and friction, batches, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "crowdcloth/cloth/ClothTopology.h"
+#include "crowdcloth/cloth/MassSpringModel.h"
+#include "crowdcloth/cloth/SubstepSimulation.h"
+#include "support/SheetScenes.h"
+
+using namespace cc;
+using namespace cc::cloth;
+
+namespace {
+
+constexpr double kG = 9.81;
+
+std::vector<uint32_t> topEdge(const RectanglePanel& panel) {
+    std::vector<uint32_t> top;
+    for (uint32_t i = 0; i <= panel.columns; ++i) top.push_back(panel.vertexIndex(i, panel.rows));
+    return top;
+}
+
+std::vector<uint32_t> farCorners(const RectanglePanel& panel) {
+    return {panel.vertexIndex(0, panel.rows), panel.vertexIndex(panel.columns, panel.rows)};
+}
+
+bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+// A vertical chain: vertex 0 attached at the origin, `masses` masses of `mass` below it at rest
+// length spacing (the lowest `lastMass`, when given), springs of stiffness k.
+std::unique_ptr<SubstepSimulation> chain(int masses, double mass, double k, double rest, double lastMass = 0.0) {
+    std::vector<Spring> springs;
+    std::vector<Vec3> positions;
+    std::vector<double> m;
+    for (int i = 0; i <= masses; ++i) {
+        positions.push_back(Vec3(0.0, -rest * i, 0.0));
+        m.push_back(i == masses && lastMass > 0.0 ? lastMass : mass);
+        if (i > 0) springs.push_back({uint32_t(i - 1), uint32_t(i), k, rest, SpringKind::Structural});
+    }
+    const uint32_t attached[] = {0};
+    ClothLevelDesc desc;
+    desc.vertexCount = uint32_t(positions.size());
+    desc.springs = springs;
+    desc.masses = m;
+    desc.attachedVertices = attached;
+    auto sim = SubstepSimulation::create(desc, positions);
+    EXPECT_TRUE(sim.isOk()) << sim.status().message();
+    return std::move(sim).value();
+}
+
+} // namespace
+
+TEST(SubstepSolver, FreeFallMatchesTheDiscreteClosedForm) {
+    // No springs: each substep is v += h g, x += h v, so after n substeps of h (t = n h)
+    // x = x0 + v0 t + g t^2 / 2 + g h t / 2 exactly (TESTPLAN A1).
+    const double m[] = {0.2};
+    ClothLevelDesc desc;
+    desc.vertexCount = 1;
+    desc.masses = m;
+    auto sim = SubstepSimulation::create(desc, {Vec3(0.0, 2.0, 0.0)}).value();
+    sim->velocities()[0] = Vec3(1.0, 0.5, 0.0);
+    SubstepSettings settings;
+    settings.substeps = 7;
+    const double dt = 1.0 / 60.0, h = dt / settings.substeps;
+    for (int step = 0; step < 30; ++step) ASSERT_TRUE(sim->step(dt, settings).isOk());
+    const double t = 30 * dt;
+    const Vec3 expected = Vec3(0.0, 2.0, 0.0) + Vec3(1.0, 0.5, 0.0) * t + Vec3(0.0, -kG, 0.0) * (0.5 * t * t + 0.5 * h * t);
+    // Roundoff only: each substep's solve multiplies by m / h^2 and its inverse square root twice.
+    EXPECT_LT((sim->positions()[0] - expected).norm(), 1e-11 * expected.norm());
+}
+
+TEST(SubstepSolver, HangingChainReachesTheExactDiscreteExtensions) {
+    // At rest the local/global fixed point is the static equilibrium: spring j (counted from the
+    // top, 1-based) of an N-mass chain carries the N - j + 1 masses below it (TESTPLAN B1). Large
+    // steps settle it fast (backward Euler's damping); small ones barely damp the slow bounce.
+    const int n = 8;
+    const double mass = 0.01, k = 50.0, rest = 0.05;
+    auto sim = chain(n, mass, k, rest);
+    SubstepSettings settings;
+    settings.substeps = 1;
+    for (int step = 0; step < 1000; ++step) ASSERT_TRUE(sim->step(1.0 / 20.0, settings).isOk());
+    for (int j = 1; j <= n; ++j) {
+        const double length = (sim->positions()[j - 1] - sim->positions()[j]).norm();
+        const double expected = (n - j + 1) * mass * kG / k;
+        EXPECT_NEAR(length - rest, expected, 1e-9) << "spring " << j;
+    }
+}
+
+TEST(SubstepSolver, SheetHungByItsTopEdgeStretchesRhoGHSquaredOverTwoY) {
+    // Structural springs only (no shear, no bending): every column is a chain with springs k = Y
+    // that carries the cloth below it. Row by row the extensions are rho g L^2 (N - j + 1/2) / Y
+    // (the bottom row's lumped masses are half), which sum to the continuum's rho g H^2 / (2 Y)
+    // exactly at every resolution.
+    ClothMaterial material;
+    material.stretchStiffness = 50.0;
+    material.shearStiffness = 0.0;
+    material.bendStiffness = 0.0;
+    const double expected = material.arealDensity * kG * 1.0 / (2.0 * material.stretchStiffness);
+    for (uint32_t squares : {4u, 8u, 16u}) {
+        const RectanglePanel panel = test::verticalSheet(squares);
+        const ClothMesh mesh = panel.build().value();
+        auto sim = SubstepSimulation::create(mesh, material, topEdge(panel)).value();
+        SubstepSettings settings;
+        settings.substeps = 1;
+        for (int step = 0; step < 2000; ++step) ASSERT_TRUE(sim->step(1.0 / 10.0, settings).isOk());
+        double lowest = 1e300;
+        for (const Vec3& p : sim->positions()) lowest = std::min(lowest, p.y());
+        EXPECT_NEAR(-lowest, expected, 1e-4 * expected) << squares << " squares";
+    }
+}
+
+TEST(SubstepSolver, IterationsConvergeToTheBackwardEulerSubstep) {
+    // The local/global iterations of one substep converge to the backward Euler step, where the
+    // residual M (x - y) / h^2 - f(x) vanishes (y: the inertial prediction). Measured on a sheet
+    // stretched 5% and rumpled, at h = 1/600 s: the residual falls at a steady linear rate.
+    const RectanglePanel panel = test::horizontalSheet(8);
+    ClothMesh mesh = panel.build().value();
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+    for (Vec3& p : mesh.positions) p = Vec3(1.05 * p.x(), p.y() + jitter(random), 1.05 * p.z());
+    const ClothMaterial material;
+    const auto topology = ClothTopology::build(mesh).value();
+    const auto model = MassSpringModel::fromMesh(mesh, topology, material).value();
+    const std::vector<double> masses = lumpedMasses(mesh, material.arealDensity);
+    const double h = 1.0 / 600.0;
+    auto residual = [&](const std::vector<Vec3>& x) {
+        std::vector<Vec3> f(x.size(), Vec3::Zero());
+        ForceEvaluation eval;
+        eval.positions = x;
+        eval.outForces = f;
+        eval.parallel.maxThreads = 1;
+        model->evaluate(eval);
+        double sum = 0.0;
+        for (std::size_t i = 0; i < x.size(); ++i)
+            sum += (masses[i] * (x[i] - mesh.positions[i]) / (h * h) - f[i]).squaredNorm();
+        return std::sqrt(sum);
+    };
+    std::vector<double> residuals;
+    const int counts[] = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
+    for (int iterations : counts) {
+        auto sim = SubstepSimulation::create(mesh, material, {}).value();
+        sim->setAcceleration(Vec3::Zero());
+        SubstepSettings settings;
+        settings.substeps = 1;
+        settings.iterations = iterations;
+        ASSERT_TRUE(sim->step(h, settings).isOk());
+        residuals.push_back(residual(sim->positions()));
+    }
+    for (std::size_t i = 1; i < residuals.size(); ++i) {
+        EXPECT_LT(residuals[i], residuals[i - 1]) << counts[i] << " iterations";
+    }
+    const double rate = std::pow(residuals[9] / residuals[8], 1.0 / 256.0);
+    RecordProperty("rate_per_iteration", std::to_string(rate));
+    EXPECT_LT(rate, 0.99);
+    EXPECT_LT(residuals[9], 1e-6 * residuals[0]);
+}
+
+TEST(SubstepSolver, AttachedVerticesReachTheirTargetsExactly) {
+    const RectanglePanel panel = test::horizontalSheet(6);
+    const ClothMesh mesh = panel.build().value();
+    const auto corners = farCorners(panel);
+    auto sim = SubstepSimulation::create(mesh, ClothMaterial{}, corners).value();
+    const Vec3 target0 = mesh.positions[corners[0]] + Vec3(0.1, 0.2, -0.05);
+    sim->setTarget(0, target0);
+    SubstepSettings settings;
+    ASSERT_TRUE(sim->step(1.0 / 60.0, settings).isOk());
+    const uint32_t v0 = sim->level().vertexOfNode()[sim->level().freeNodeCount()];
+    EXPECT_EQ(sim->positions()[v0], target0);
+}
+
+TEST(SubstepSolver, StrainLimitHoldsProvotsTwoCornerSheet) {
+    // Provot's test (TESTPLAN B5): soft springs, two corners, limit 10%: every edge within 10.5%
+    // after every step; without the limit the corners stretch far beyond it.
+    ClothMaterial soft;
+    soft.stretchStiffness = 20.0;
+    soft.shearStiffness = 2.0;
+    const RectanglePanel panel = test::horizontalSheet(10);
+    const ClothMesh mesh = panel.build().value();
+    for (double limit : {0.0, 0.1}) {
+        auto sim = SubstepSimulation::create(mesh, soft, farCorners(panel)).value();
+        SubstepSettings settings;
+        settings.strainLimit = limit;
+        settings.strainLimitPasses = 50;
+        double worst = 0.0;
+        for (int step = 0; step < 120; ++step) {
+            ASSERT_TRUE(sim->step(1.0 / 60.0, settings).isOk());
+            worst = std::max(worst, sim->maxEdgeStrain());
+        }
+        if (limit > 0.0) {
+            EXPECT_LE(worst, limit + 0.005);
+        } else {
+            EXPECT_GT(worst, 0.2);
+        }
+    }
+}
+
+TEST(SubstepSolver, SheetRestsOnAContactPlaneAtItsThickness) {
+    // A sheet dropped onto a floor (contacts with the plane y = 0 for every vertex) comes to rest
+    // on the offset plane y = thickness, no vertex below it.
+    const RectanglePanel panel = test::horizontalSheet(6);
+    ClothMesh mesh = panel.build().value();
+    for (Vec3& p : mesh.positions) p.y() = 0.05;
+    auto sim = SubstepSimulation::create(mesh, ClothMaterial{}, {}).value();
+    std::vector<Contact> contacts;
+    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
+        Contact c;
+        c.vertex = v;
+        c.point = Vec3(mesh.positions[v].x(), 0.0, mesh.positions[v].z());
+        c.normal = Vec3::UnitY();
+        contacts.push_back(c);
+    }
+    sim->setContacts(contacts);
+    SubstepSettings settings;
+    settings.contactThickness = 0.004;
+    settings.friction = Friction{0.5, 0.4};
+    for (int step = 0; step < 120; ++step) ASSERT_TRUE(sim->step(1.0 / 60.0, settings).isOk());
+    for (const Vec3& p : sim->positions()) EXPECT_NEAR(p.y(), 0.004, 1e-9);
+    EXPECT_LT(sim->kineticEnergy(), 1e-12);
+}
+
+TEST(SubstepSolver, FrictionOnAnInclineSticksBelowTheAngleAndSlidesAboveIt) {
+    // A particle on a plane at angle a with mu_s = mu_k = mu (TESTPLAN B7): it sticks at
+    // atan(mu) - 2 degrees and slides at atan(mu) + 2 degrees with acceleration g (sin a - mu cos a).
+    const double mu = 0.4;
+    for (double degrees : {-2.0, 2.0}) {
+        const double a = std::atan(mu) + degrees * M_PI / 180.0;
+        const Vec3 normal(-std::sin(a), std::cos(a), 0.0);  // the plane rises towards -x
+        const double m[] = {0.01};
+        ClothLevelDesc desc;
+        desc.vertexCount = 1;
+        desc.masses = m;
+        auto sim = SubstepSimulation::create(desc, {Vec3::Zero()}).value();
+        Contact c;
+        c.point = Vec3::Zero();
+        c.normal = normal;
+        sim->setContacts({c});
+        SubstepSettings settings;
+        settings.substeps = 20;
+        settings.friction = Friction{mu, mu};
+        const double dt = 1.0 / 60.0, seconds = 1.0;
+        for (int step = 0; step < int(seconds / dt + 0.5); ++step) {
+            // The plane is tangent at the particle's current point: a long, flat incline.
+            c.point = sim->positions()[0] - normal * normal.dot(sim->positions()[0]);
+            sim->setContacts({c});
+            ASSERT_TRUE(sim->step(dt, settings).isOk());
+        }
+        const double travelled = sim->positions()[0].norm();
+        const double expected = degrees < 0.0 ? 0.0 : 0.5 * kG * (std::sin(a) - mu * std::cos(a)) * seconds * seconds;
+        if (degrees < 0.0) {
+            EXPECT_LT(travelled, 1e-9);
+        } else {
+            EXPECT_NEAR(travelled, expected, 0.02 * expected);
+        }
+    }
+}
+
+TEST(SubstepSolver, WeldedCopiesMoveAsOnePoint) {
+    // Two panels side by side whose touching columns are welded: the copies end every step at the
+    // same position, and the pair hangs as one sheet (no gap opens along the weld).
+    RectanglePanel left = test::horizontalSheet(4);
+    left.width = 0.5;
+    RectanglePanel right = left;
+    right.origin.x() += 0.5;
+    const ClothMesh a = left.build().value(), b = right.build().value();
+    ClothMesh mesh = a;
+    const uint32_t offset = uint32_t(a.vertexCount());
+    for (std::size_t v = 0; v < b.vertexCount(); ++v) {
+        mesh.positions.push_back(b.positions[v]);
+        mesh.restPositions.push_back(b.restPositions[v] + Vec2(0.5, 0.0));
+    }
+    for (const auto& t : b.triangles) mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    std::vector<std::array<uint32_t, 2>> welds;
+    for (uint32_t j = 0; j <= left.rows; ++j) welds.push_back({left.vertexIndex(left.columns, j), offset + right.vertexIndex(0, j)});
+    const uint32_t attached[] = {left.vertexIndex(0, left.rows), offset + right.vertexIndex(right.columns, right.rows)};
+    auto sim = SubstepSimulation::create(mesh, ClothMaterial{}, attached, welds).value();
+    EXPECT_EQ(sim->level().nodeCount(), mesh.vertexCount() - welds.size());
+    for (int step = 0; step < 60; ++step) ASSERT_TRUE(sim->step(1.0 / 60.0, SubstepSettings{}).isOk());
+    for (const auto& [p, q] : welds) EXPECT_EQ(sim->positions()[p], sim->positions()[q]);
+    EXPECT_LT(sim->maxEdgeStrain(), 0.1);
+}
+
+namespace {
+
+// Eight different instances of one level: different starts, targets, contacts and gravity.
+struct Batch {
+    std::shared_ptr<const ClothLevel> level;
+    std::shared_ptr<const SubstepFactor> factor;
+    std::vector<std::vector<Vec3>> positions, velocities, targets;
+    std::vector<std::vector<Contact>> contacts;
+    std::vector<Vec3> accelerations;
+
+    explicit Batch(int lanes) {
+        const RectanglePanel panel = test::horizontalSheet(6);
+        const ClothMesh mesh = panel.build().value();
+        level = ClothLevel::cookMesh(mesh, ClothMaterial{}, farCorners(panel)).value();
+        factor = level->buildFactor(1.0 / 600.0).value();
+        std::mt19937 random(3);
+        std::uniform_real_distribution<double> u(-0.02, 0.02);
+        for (int l = 0; l < lanes; ++l) {
+            std::vector<Vec3> x = mesh.positions;
+            for (Vec3& p : x) p += Vec3(u(random), u(random), u(random));
+            positions.push_back(x);
+            velocities.push_back(std::vector<Vec3>(x.size(), Vec3(u(random), 0.0, u(random))));
+            std::vector<Vec3> t;
+            for (uint32_t k = 0; k < level->attachedNodeCount(); ++k)
+                t.push_back(x[level->vertexOfNode()[level->freeNodeCount() + k]] + Vec3(0.0, u(random), 0.0));
+            targets.push_back(t);
+            std::vector<Contact> c;
+            for (uint32_t v = l; v < x.size(); v += 5) {
+                Contact contact;
+                contact.vertex = v;
+                contact.point = Vec3(x[v].x(), 0.99, x[v].z());
+                contact.normal = Vec3::UnitY();
+                contact.surfaceVelocity = Vec3(0.0, 0.1 * l, 0.0);
+                c.push_back(contact);
+            }
+            contacts.push_back(c);
+            accelerations.push_back(Vec3(0.1 * l, -kG, 0.0));
+        }
+    }
+
+    // Steps the lanes `which` together, `steps` times.
+    void step(const std::vector<int>& which, int steps, std::vector<SubstepLaneReport>* outReports = nullptr) {
+        SubstepWorkspace work;
+        SubstepSettings settings;
+        settings.strainLimit = 0.05;
+        settings.contactThickness = 0.004;
+        std::vector<SubstepLane> lanes;
+        for (int l : which) {
+            SubstepLane lane;
+            lane.positions = positions[l];
+            lane.velocities = velocities[l];
+            lane.targets = targets[l];
+            lane.contacts = contacts[l];
+            lane.acceleration = accelerations[l];
+            lanes.push_back(lane);
+        }
+        std::vector<SubstepLaneReport> reports(lanes.size());
+        for (int s = 0; s < steps; ++s)
+            ASSERT_TRUE(stepSubsteps(*level, *factor, 1.0 / 60.0, settings, lanes, work, reports).isOk());
+        if (outReports) *outReports = reports;
+    }
+};
+
+} // namespace
+
+TEST(SubstepSolver, ALaneGivesTheSameBitsAloneAndInEveryBatch) {
+    Batch alone(8);
+    for (int l = 0; l < 8; ++l) alone.step({l}, 20);
+    for (const std::vector<int>& batch : std::vector<std::vector<int>>{{0, 1}, {2, 3, 4}, {5, 6, 7, 0}, {0, 1, 2, 3, 4, 5, 6, 7}}) {
+        Batch together(8);
+        together.step(batch, 20);
+        for (int l : batch) {
+            EXPECT_TRUE(sameBits(together.positions[l], alone.positions[l])) << "lane " << l << " of a batch of " << batch.size();
+            EXPECT_TRUE(sameBits(together.velocities[l], alone.velocities[l])) << "lane " << l;
+        }
+    }
+}
+
+TEST(SubstepSolver, ANonFiniteLaneFailsAloneAndTheOthersAreUntouched) {
+    Batch alone(4), together(4);
+    for (int l : {0, 1, 3}) alone.step({l}, 5);
+    together.positions[2][7].x() = NAN;
+    const std::vector<Vec3> before = together.positions[2];
+    std::vector<SubstepLaneReport> reports;
+    together.step({0, 1, 2, 3}, 5, &reports);
+    EXPECT_EQ(reports[2].status.code(), StatusCode::NumericalFailure);
+    EXPECT_NE(reports[2].status.message().find("vertex 7"), std::string::npos) << reports[2].status.message();
+    EXPECT_EQ(std::memcmp(before.data(), together.positions[2].data(), before.size() * sizeof(Vec3)), 0);
+    for (int l : {0, 1, 3}) {
+        EXPECT_TRUE(reports[l].status.isOk());
+        EXPECT_TRUE(sameBits(together.positions[l], alone.positions[l])) << "lane " << l;
+    }
+}
+
+TEST(SubstepSolver, BadInputIsRefusedNamingWhatIsWrong) {
+    Batch b(1);
+    SubstepWorkspace work;
+    SubstepLane lane;
+    lane.positions = b.positions[0];
+    lane.velocities = b.velocities[0];
+    lane.targets = b.targets[0];
+    SubstepLaneReport report;
+    const Span<const SubstepLane> lanes(&lane, 1);
+    const Span<SubstepLaneReport> reports(&report, 1);
+    SubstepSettings settings;
+    settings.substeps = 0;
+    EXPECT_NE(stepSubsteps(*b.level, *b.factor, 1.0 / 60.0, settings, lanes, work, reports).message().find("substeps"),
+              std::string::npos);
+    settings = SubstepSettings{};
+    settings.substeps = 20;  // the factor is for 10 substeps of 1/60 s
+    EXPECT_NE(stepSubsteps(*b.level, *b.factor, 1.0 / 60.0, settings, lanes, work, reports).message().find("factor"),
+              std::string::npos);
+    settings = SubstepSettings{};
+    std::vector<Vec3> shortTargets;
+    lane.targets = shortTargets;
+    EXPECT_NE(stepSubsteps(*b.level, *b.factor, 1.0 / 60.0, settings, lanes, work, reports).message().find("targets"),
+              std::string::npos);
+    EXPECT_FALSE(b.level->buildFactor(0.0).isOk());
+    ClothLevelDesc empty;
+    EXPECT_FALSE(ClothLevel::cook(empty).isOk());
+    const double badMass[] = {-1.0};
+    ClothLevelDesc negative;
+    negative.vertexCount = 1;
+    negative.masses = badMass;
+    EXPECT_NE(ClothLevel::cook(negative).status().message().find("mass"), std::string::npos);
+}
+
+TEST(SubstepExtremes, StaysFiniteAndBoundedFromSoftToRigidAndAtHugeSteps) {
+    // TESTPLAN D1, D2, D4: stiffness 1e1 to 1e7 N/m, dt 1/1000 to 1/15 s, light and heavy cloth; the
+    // energy never exceeds its start by more than 1% of the weight scale.
+    struct Case {
+        double stretch, density, dt;
+    };
+    for (const Case& c : {Case{1e1, 0.15, 1.0 / 60.0}, Case{1e7, 0.15, 1.0 / 60.0}, Case{1e7, 0.15, 1.0 / 15.0},
+                          Case{5e3, 0.15, 1.0 / 1000.0}, Case{5e3, 1e-3, 1.0 / 30.0}, Case{5e3, 50.0, 1.0 / 30.0}}) {
+        ClothMaterial material;
+        material.stretchStiffness = c.stretch;
+        material.shearStiffness = 0.1 * c.stretch;
+        material.arealDensity = c.density;
+        const RectanglePanel panel = test::horizontalSheet(8);
+        const ClothMesh mesh = panel.build().value();
+        auto sim = SubstepSimulation::create(mesh, material, farCorners(panel)).value();
+        const double scale = c.density * kG;  // [J] the sheet's weight times 1 m
+        auto energy = [&] {
+            double potential = 0.0;
+            for (uint32_t k = 0; k < sim->level().freeNodeCount(); ++k)
+                potential += sim->level().nodeMasses()[k] * kG * sim->positions()[sim->level().vertexOfNode()[k]].y();
+            return potential + sim->kineticEnergy();
+        };
+        const double e0 = energy();
+        for (int step = 0; step < int(0.5 / c.dt) + 1; ++step) {
+            ASSERT_TRUE(sim->step(c.dt, SubstepSettings{}).isOk()) << c.stretch << " " << c.dt;
+            ASSERT_LE(energy(), e0 + 0.01 * scale) << "stretch " << c.stretch << " dt " << c.dt << " step " << step;
+        }
+    }
+}
+
+TEST(SubstepExtremes, MassRatioOfAMillionKeepsTheExactEquilibrium) {
+    // TESTPLAN D4: a 1 kg bead at the end of a chain of 1 mg beads; at rest every spring carries
+    // the bead and the light masses below it.
+    const int n = 6;
+    const double light = 1e-6, heavy = 1.0, k = 1000.0, rest = 0.05;
+    auto sim = chain(n, light, k, rest, heavy);
+    SubstepSettings settings;
+    settings.substeps = 1;
+    for (int step = 0; step < 1000; ++step) ASSERT_TRUE(sim->step(1.0 / 20.0, settings).isOk());
+    for (int j = 1; j <= n; ++j) {
+        const double length = (sim->positions()[j - 1] - sim->positions()[j]).norm();
+        const double expected = (heavy + (n - j) * light) * kG / k;
+        EXPECT_NEAR(length - rest, expected, 1e-6 * expected) << "spring " << j;
+    }
+}
