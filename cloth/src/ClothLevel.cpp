@@ -122,7 +122,7 @@ Result<std::shared_ptr<const ClothLevel>> ClothLevel::cook(const ClothLevelDesc&
     std::vector<double> diagonal(freeCount, 0.0);
     for (const Spring& s : d.springs) {
         const uint32_t a = provisional[root[s.a]], b = provisional[root[s.b]];
-        if (root[s.a] == root[s.b]) continue;  // both ends one node: no force
+        if (root[s.a] == root[s.b] || s.kind == SpringKind::Bend) continue;  // ordered for stretch and shear
         if (a != kNone) diagonal[a] += s.stiffness;
         if (b != kNone) diagonal[b] += s.stiffness;
         if (a != kNone && b != kNone) lowerColumns[std::min(a, b)].push_back({std::max(a, b), -s.stiffness});
@@ -187,16 +187,18 @@ Result<std::shared_ptr<const ClothLevel>> ClothLevel::cook(const ClothLevelDesc&
         if (a == b || (a >= freeCount && b >= freeCount)) continue;
         if (a >= freeCount) std::swap(a, b);
         LevelSpring ls{a, b, s.stiffness, s.restLength};
+        const bool bend = s.kind == SpringKind::Bend;
         if (b < freeCount) {
             if (ls.a > ls.b) std::swap(ls.a, ls.b);
-            level->mFreeSprings.push_back(ls);
+            (bend ? level->mFreeBendSprings : level->mFreeSprings).push_back(ls);
         } else {
-            level->mAttachedSprings.push_back(ls);
+            (bend ? level->mAttachedBendSprings : level->mAttachedSprings).push_back(ls);
         }
     }
     auto byNodes = [](const LevelSpring& x, const LevelSpring& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; };
-    std::stable_sort(level->mFreeSprings.begin(), level->mFreeSprings.end(), byNodes);
-    std::stable_sort(level->mAttachedSprings.begin(), level->mAttachedSprings.end(), byNodes);
+    for (auto* list : {&level->mFreeSprings, &level->mAttachedSprings, &level->mFreeBendSprings,
+                       &level->mAttachedBendSprings})
+        std::stable_sort(list->begin(), list->end(), byNodes);
 
     for (const LimitedEdge& e : d.limitedEdges) {
         uint32_t a = node[e.a], b = node[e.b];
@@ -233,31 +235,6 @@ Result<std::shared_ptr<const ClothLevel>> ClothLevel::cook(const ClothLevelDesc&
         return x.a != y.a ? x.a < y.a : x.b < y.b;
     });
 
-    // The Laplacian over the final numbering, lower triangle, diagonal first.
-    std::vector<std::vector<std::pair<uint32_t, double>>> columns(freeCount);
-    std::vector<double> diag(freeCount, 0.0);
-    for (const LevelSpring& s : level->mFreeSprings) {
-        diag[s.a] += s.stiffness;
-        diag[s.b] += s.stiffness;
-        columns[std::min(s.a, s.b)].push_back({std::max(s.a, s.b), -s.stiffness});
-    }
-    for (const LevelSpring& s : level->mAttachedSprings) diag[s.a] += s.stiffness;
-    level->mColumnStart.assign(1, 0);
-    for (uint32_t j = 0; j < freeCount; ++j) {
-        auto& col = columns[j];
-        std::stable_sort(col.begin(), col.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-        level->mRows.push_back(j);
-        level->mValues.push_back(diag[j]);
-        for (std::size_t k = 0; k < col.size(); ++k) {
-            if (k > 0 && col[k].first == col[k - 1].first) {
-                level->mValues.back() += col[k].second;
-                continue;
-            }
-            level->mRows.push_back(col[k].first);
-            level->mValues.push_back(col[k].second);
-        }
-        level->mColumnStart.push_back(uint32_t(level->mRows.size()));
-    }
     return std::shared_ptr<const ClothLevel>(std::move(level));
 }
 
@@ -288,8 +265,51 @@ Result<std::shared_ptr<const ClothLevel>> ClothLevel::cookMesh(const ClothMesh& 
 Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) const {
     if (!(h > 0.0 && h <= 1.0)) return Status::invalidArgument("ClothLevel::buildFactor: h = " + std::to_string(h) + " s is outside (0, 1]");
     const uint32_t n = mFreeNodeCount;
-    std::vector<double> values = mValues;
-    for (uint32_t j = 0; j < n; ++j) values[mColumnStart[j]] += mNodeMass[j] / (h * h);
+    // Bending joins the matrix only where explicit bending would be near its stability limit.
+    std::vector<double> bendLoad(n, 0.0);
+    for (const auto* list : {&mFreeBendSprings, &mAttachedBendSprings})
+        for (const LevelSpring& s : *list) {
+            bendLoad[s.a] += s.stiffness;
+            if (s.b < n) bendLoad[s.b] += s.stiffness;
+        }
+    bool includeBending = false;
+    for (uint32_t k = 0; k < n; ++k) includeBending = includeBending || h * h * bendLoad[k] / mNodeMass[k] > 0.1;
+
+    // Lower triangle of M / h^2 + L over the free nodes, column-compressed, diagonal first.
+    std::vector<std::vector<std::pair<uint32_t, double>>> columns(n);
+    std::vector<double> diagonal(n);
+    for (uint32_t k = 0; k < n; ++k) diagonal[k] = mNodeMass[k] / (h * h);
+    auto add = [&](const std::vector<LevelSpring>& springs) {
+        for (const LevelSpring& s : springs) {
+            diagonal[s.a] += s.stiffness;
+            if (s.b >= n) continue;  // attached end: known, on the right-hand side
+            diagonal[s.b] += s.stiffness;
+            columns[std::min(s.a, s.b)].push_back({std::max(s.a, s.b), -s.stiffness});
+        }
+    };
+    add(mFreeSprings);
+    add(mAttachedSprings);
+    if (includeBending) {
+        add(mFreeBendSprings);
+        add(mAttachedBendSprings);
+    }
+    std::vector<uint32_t> columnStart{0}, rows;
+    std::vector<double> values;
+    for (uint32_t j = 0; j < n; ++j) {
+        auto& col = columns[j];
+        std::stable_sort(col.begin(), col.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        rows.push_back(j);
+        values.push_back(diagonal[j]);
+        for (std::size_t k = 0; k < col.size(); ++k) {
+            if (k > 0 && col[k].first == col[k - 1].first) {
+                values.back() += col[k].second;  // parallel springs share a slot
+                continue;
+            }
+            rows.push_back(col[k].first);
+            values.push_back(col[k].second);
+        }
+        columnStart.push_back(uint32_t(rows.size()));
+    }
 
     CholmodCommon common;
     // The nodes are already in the fill-reducing order: no permutation, no postorder, so the factor
@@ -299,7 +319,7 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
     common.c.postorder = 0;
     common.c.supernodal = CHOLMOD_SIMPLICIAL;
     common.c.final_ll = 1;
-    cholmod_sparse* a = toCholmod({mColumnStart, mRows, values}, common.c);
+    cholmod_sparse* a = toCholmod({columnStart, rows, values}, common.c);
     if (!a) return Status::error(StatusCode::NumericalFailure, "ClothLevel::buildFactor: CHOLMOD could not allocate");
     cholmod_factor* l = cholmod_analyze(a, &common.c);
     bool ok = l && cholmod_factorize(a, l, &common.c) && common.c.status == CHOLMOD_OK &&
@@ -312,8 +332,9 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
     }
     std::shared_ptr<SubstepFactor> f(new SubstepFactor());
     f->mSubstep = h;
+    f->mIncludesBending = includeBending;
     const int* p = static_cast<const int*>(l->p);
-    const int* rows = static_cast<const int*>(l->i);
+    const int* lRows = static_cast<const int*>(l->i);
     const double* x = static_cast<const double*>(l->x);
     f->mColumnStart.assign(1, 0);
     f->mInverseDiagonal.resize(n);
@@ -321,7 +342,7 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
         // Simplicial LL^T keeps the diagonal first in each column.
         f->mInverseDiagonal[j] = 1.0 / x[p[j]];
         for (int k = p[j] + 1; k < p[j + 1]; ++k) {
-            f->mRows.push_back(uint32_t(rows[k]));
+            f->mRows.push_back(uint32_t(lRows[k]));
             f->mValues.push_back(x[k]);
         }
         f->mColumnStart.push_back(uint32_t(f->mRows.size()));

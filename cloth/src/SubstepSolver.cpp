@@ -15,6 +15,8 @@ Status SubstepSettings::validate() const {
     if (!(strainLimit >= 0.0 && strainLimit <= 10.0))
         return Status::invalidArgument("SubstepSettings.strainLimit = " + std::to_string(strainLimit) +
                                        " is outside [0, 10]");
+    if (method != SubstepMethod::Newton && method != SubstepMethod::LocalGlobal)
+        return Status::invalidArgument("SubstepSettings.method is unknown");
     if (iterations < 1 || iterations > 1000)
         return Status::invalidArgument("SubstepSettings.iterations = " + std::to_string(iterations) +
                                        " is outside [1, 1000]");
@@ -143,16 +145,29 @@ private:
         double* v = mW.velocities.data();
         double* prev = mW.previous.data();
         double* y = mW.predicted.data();
-        double* b = mW.solution.data();
+        const bool newton = mSettings.method == SubstepMethod::Newton;
+        const bool explicitBending = !newton && !mFactor.includesBending();
 
-        // Inertial prediction y = x + h v + h^2 a; the iterations start from x = y.
+        // Soft bending the factor leaves out acts explicitly in the local/global method: its
+        // forces at the substep's start join the prediction.
+        if (explicitBending) {
+            double* f = mW.solution.data();
+            std::fill(f, f + std::size_t(nodes) * kRow, 0.0);
+            springForces(mLevel.freeBendSprings(), x, f, nullptr, true);
+            springForces(mLevel.attachedBendSprings(), x, f, nullptr, false);
+        }
+        // Inertial prediction y = x + h v + h^2 a; the solve starts from x = y.
         for (uint32_t k = 0; k < free; ++k) {
+            const double* bend = mW.solution.data() + std::size_t(k) * kRow;
+            const double scale = h2 / mass[k];
             for (int c = 0; c < 3; ++c) {
                 const std::size_t o = std::size_t(k) * kRow + c * W;
                 for (int l = 0; l < W; ++l) {
                     prev[o + l] = x[o + l];
-                    y[o + l] = x[o + l] + h * v[o + l] + h2 * mAcceleration[c][l];
-                    x[o + l] = y[o + l];
+                    double next = x[o + l] + h * v[o + l] + h2 * mAcceleration[c][l];
+                    if (explicitBending) next += scale * bend[c * W + l];
+                    y[o + l] = next;
+                    x[o + l] = next;
                 }
             }
         }
@@ -167,13 +182,20 @@ private:
                     prev[o + l] = x[o + l];
                     const double start = mW.attachedStart[t + l], end = mW.attachedEnd[t + l];
                     x[o + l] = last ? end : start + fraction * (end - start);
+                    y[o + l] = x[o + l];
                 }
             }
         }
-        for (int it = 0; it < mSettings.iterations; ++it) {
-            localStep(x, y, b, mass, h2);
-            mFactor.solveInPlace(b, kRow);  // global step with the shared factor
-            for (std::size_t i = 0; i < std::size_t(free) * kRow; ++i) x[i] = b[i];
+
+        if (newton) {
+            newtonStep(x, mass, h2);
+        } else {
+            double* b = mW.solution.data();
+            for (int it = 0; it < mSettings.iterations; ++it) {
+                localStep(x, y, b, mass, h2);
+                mFactor.solveInPlace(b, kRow);  // global step with the shared factor
+                for (std::size_t i = 0; i < std::size_t(free) * kRow; ++i) x[i] = b[i];
+            }
         }
 
         // Contacts: a vertex behind its moving plane is pushed onto it; Coulomb friction on the
@@ -215,7 +237,17 @@ private:
             const std::size_t o = std::size_t(k) * kRow;
             for (int i = 0; i < kRow; ++i) b[o + i] = inertia * y[o + i];
         }
-        for (const LevelSpring& sp : mLevel.freeSprings()) {
+        projections(mLevel.freeSprings(), x, b, true);
+        projections(mLevel.attachedSprings(), x, b, false);
+        if (mFactor.includesBending()) {
+            projections(mLevel.freeBendSprings(), x, b, true);
+            projections(mLevel.attachedBendSprings(), x, b, false);
+        }
+    }
+
+    void projections(const std::vector<LevelSpring>& springs, const double* CC_RESTRICT x, double* CC_RESTRICT b,
+                     bool bothFree) const {
+        for (const LevelSpring& sp : springs) {
             const double* CC_RESTRICT xa = x + std::size_t(sp.a) * kRow;
             const double* CC_RESTRICT xb = x + std::size_t(sp.b) * kRow;
             double* CC_RESTRICT ba = b + std::size_t(sp.a) * kRow;
@@ -224,23 +256,153 @@ private:
                 const double dx = xa[l] - xb[l], dy = xa[W + l] - xb[W + l], dz = xa[2 * W + l] - xb[2 * W + l];
                 const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
                 const double scale = length > 0.0 ? sp.stiffness * sp.restLength / length : 0.0;
-                ba[l] += scale * dx, ba[W + l] += scale * dy, ba[2 * W + l] += scale * dz;
-                bb[l] -= scale * dx, bb[W + l] -= scale * dy, bb[2 * W + l] -= scale * dz;
+                if (bothFree) {
+                    ba[l] += scale * dx, ba[W + l] += scale * dy, ba[2 * W + l] += scale * dz;
+                    bb[l] -= scale * dx, bb[W + l] -= scale * dy, bb[2 * W + l] -= scale * dz;
+                } else {
+                    ba[l] += sp.stiffness * xb[l] + scale * dx;
+                    ba[W + l] += sp.stiffness * xb[W + l] + scale * dy;
+                    ba[2 * W + l] += sp.stiffness * xb[2 * W + l] + scale * dz;
+                }
             }
         }
-        for (const LevelSpring& sp : mLevel.attachedSprings()) {
+    }
+
+    // Spring forces at x added into f (f = -grad E); with `frames`, also each spring's definite
+    // Hessian k [n n^T + t (I - n n^T)], t = max(0, 1 - L0 / |d|), stored as (n, k (1 - t), k t).
+    void springForces(const std::vector<LevelSpring>& springs, const double* CC_RESTRICT x, double* CC_RESTRICT f,
+                      double* CC_RESTRICT frames, bool bothFree) const {
+        for (std::size_t i = 0; i < springs.size(); ++i) {
+            const LevelSpring& sp = springs[i];
             const double* CC_RESTRICT xa = x + std::size_t(sp.a) * kRow;
             const double* CC_RESTRICT xb = x + std::size_t(sp.b) * kRow;
-            double* CC_RESTRICT ba = b + std::size_t(sp.a) * kRow;
+            double* CC_RESTRICT fa = f + std::size_t(sp.a) * kRow;
+            double* CC_RESTRICT fb = f + std::size_t(sp.b) * kRow;
+            double* CC_RESTRICT frame = frames ? frames + i * 5 * W : nullptr;
             for (int l = 0; l < W; ++l) {
                 const double dx = xa[l] - xb[l], dy = xa[W + l] - xb[W + l], dz = xa[2 * W + l] - xb[2 * W + l];
                 const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-                const double scale = length > 0.0 ? sp.stiffness * sp.restLength / length : 0.0;
-                ba[l] += sp.stiffness * xb[l] + scale * dx;
-                ba[W + l] += sp.stiffness * xb[W + l] + scale * dy;
-                ba[2 * W + l] += sp.stiffness * xb[2 * W + l] + scale * dz;
+                const double inverse = length > 0.0 ? 1.0 / length : 0.0;
+                const double nx = dx * inverse, ny = dy * inverse, nz = dz * inverse;
+                const double tension = sp.stiffness * (length - sp.restLength);
+                fa[l] -= tension * nx, fa[W + l] -= tension * ny, fa[2 * W + l] -= tension * nz;
+                if (bothFree) fb[l] += tension * nx, fb[W + l] += tension * ny, fb[2 * W + l] += tension * nz;
+                if (frame) {
+                    // A collapsed spring has no direction: it resists isotropically.
+                    const double t = length > 0.0 ? std::max(0.0, 1.0 - sp.restLength * inverse) : 1.0;
+                    frame[l] = nx, frame[W + l] = ny, frame[2 * W + l] = nz;
+                    frame[3 * W + l] = sp.stiffness * (1.0 - t);
+                    frame[4 * W + l] = sp.stiffness * t;
+                }
             }
         }
+    }
+
+    // out += H u over one list of springs (the stored frames), for the free ends.
+    void hessianProduct(const std::vector<LevelSpring>& springs, const double* CC_RESTRICT frames,
+                        const double* CC_RESTRICT u, double* CC_RESTRICT out, bool bothFree) const {
+        for (std::size_t i = 0; i < springs.size(); ++i) {
+            const LevelSpring& sp = springs[i];
+            const double* CC_RESTRICT ua = u + std::size_t(sp.a) * kRow;
+            const double* CC_RESTRICT ub = u + std::size_t(sp.b) * kRow;
+            double* CC_RESTRICT oa = out + std::size_t(sp.a) * kRow;
+            double* CC_RESTRICT ob = out + std::size_t(sp.b) * kRow;
+            const double* CC_RESTRICT frame = frames + i * 5 * W;
+            for (int l = 0; l < W; ++l) {
+                double dx = ua[l], dy = ua[W + l], dz = ua[2 * W + l];
+                if (bothFree) dx -= ub[l], dy -= ub[W + l], dz -= ub[2 * W + l];
+                const double nx = frame[l], ny = frame[W + l], nz = frame[2 * W + l];
+                const double along = frame[3 * W + l] * (nx * dx + ny * dy + nz * dz);
+                const double across = frame[4 * W + l];
+                const double hx = along * nx + across * dx, hy = along * ny + across * dy, hz = along * nz + across * dz;
+                oa[l] += hx, oa[W + l] += hy, oa[2 * W + l] += hz;
+                if (bothFree) ob[l] -= hx, ob[W + l] -= hy, ob[2 * W + l] -= hz;
+            }
+        }
+    }
+
+    // Per lane: sum over the free nodes of a . b, in node order.
+    void dot(const double* CC_RESTRICT a, const double* CC_RESTRICT b, double (&out)[W]) const {
+        for (int l = 0; l < W; ++l) out[l] = 0.0;
+        for (uint32_t k = 0; k < mLevel.freeNodeCount(); ++k) {
+            const std::size_t o = std::size_t(k) * kRow;
+            for (int l = 0; l < W; ++l)
+                out[l] += a[o + l] * b[o + l] + a[o + W + l] * b[o + W + l] + a[o + 2 * W + l] * b[o + 2 * W + l];
+        }
+    }
+
+    // q = (M / h^2 + H) p over the free nodes.
+    void systemProduct(const double* p, double* q, const std::vector<double>& mass, double h2) const {
+        const uint32_t free = mLevel.freeNodeCount();
+        for (uint32_t k = 0; k < free; ++k) {
+            const double inertia = mass[k] / h2;
+            const std::size_t o = std::size_t(k) * kRow;
+            for (int i = 0; i < kRow; ++i) q[o + i] = inertia * p[o + i];
+        }
+        const double* frames = mW.springFrames.data();
+        std::size_t offset = 0;
+        for (const auto* list : {&mLevel.freeSprings(), &mLevel.freeBendSprings()}) {
+            hessianProduct(*list, frames + offset, p, q, true);
+            offset += list->size() * 5 * W;
+        }
+        for (const auto* list : {&mLevel.attachedSprings(), &mLevel.attachedBendSprings()}) {
+            hessianProduct(*list, frames + offset, p, q, false);
+            offset += list->size() * 5 * W;
+        }
+    }
+
+    // One Newton step from the prediction (in x): (M / h^2 + H) d = f(x), x += d, by `iterations`
+    // CG iterations preconditioned with the shared factor, from d = 0. Per lane scalars, so lanes
+    // never mix; a lane whose residual vanishes stops moving (alpha = 0).
+    void newtonStep(double* x, const std::vector<double>& mass, double h2) {
+        const uint32_t free = mLevel.freeNodeCount();
+        const std::size_t size = std::size_t(free) * kRow;
+        const std::size_t springs = mLevel.freeSprings().size() + mLevel.freeBendSprings().size() +
+                                    mLevel.attachedSprings().size() + mLevel.attachedBendSprings().size();
+        for (auto* a : {&mW.residual, &mW.search, &mW.product, &mW.correction}) a->assign(size, 0.0);
+        mW.springFrames.resize(springs * 5 * W);
+        double* r = mW.residual.data();
+        double* p = mW.search.data();
+        double* q = mW.product.data();
+        double* d = mW.correction.data();
+        double* z = mW.solution.data();
+        double* frames = mW.springFrames.data();
+        std::size_t offset = 0;
+        for (const auto* list : {&mLevel.freeSprings(), &mLevel.freeBendSprings()}) {
+            springForces(*list, x, r, frames + offset, true);
+            offset += list->size() * 5 * W;
+        }
+        for (const auto* list : {&mLevel.attachedSprings(), &mLevel.attachedBendSprings()}) {
+            springForces(*list, x, r, frames + offset, false);
+            offset += list->size() * 5 * W;
+        }
+        auto precondition = [&] {
+            std::copy(r, r + size, z);
+            mFactor.solveInPlace(z, kRow);
+        };
+        precondition();
+        std::copy(z, z + size, p);
+        double rz[W], pq[W], next[W], alpha[W], beta[W];
+        dot(r, z, rz);
+        for (int it = 0; it < mSettings.iterations; ++it) {
+            systemProduct(p, q, mass, h2);
+            dot(p, q, pq);
+            for (int l = 0; l < W; ++l) alpha[l] = pq[l] > 0.0 && rz[l] > 0.0 ? rz[l] / pq[l] : 0.0;
+            for (std::size_t o = 0; o < size; o += kRow)
+                for (int c = 0; c < 3; ++c)
+                    for (int l = 0; l < W; ++l) {
+                        d[o + c * W + l] += alpha[l] * p[o + c * W + l];
+                        r[o + c * W + l] -= alpha[l] * q[o + c * W + l];
+                    }
+            if (it + 1 == mSettings.iterations) break;
+            precondition();
+            dot(r, z, next);
+            for (int l = 0; l < W; ++l) beta[l] = rz[l] > 0.0 ? next[l] / rz[l] : 0.0, rz[l] = next[l];
+            for (std::size_t o = 0; o < size; o += kRow)
+                for (int c = 0; c < 3; ++c)
+                    for (int l = 0; l < W; ++l) p[o + c * W + l] = z[o + c * W + l] + beta[l] * p[o + c * W + l];
+        }
+        for (std::size_t i = 0; i < size; ++i) x[i] += d[i];
     }
 
     // Provot's strain limit after the step, tethers first (see StrainLimiter).

@@ -72,18 +72,24 @@ public:
     const std::vector<uint32_t>& vertexOfNode() const { return mVertexOfNode; }
     const std::vector<double>& nodeMasses() const { return mNodeMass; }  ///< [kg]
     double totalMass() const { return mTotalMass; }                      ///< [kg] of the free nodes
-    /// Springs between two free nodes, sorted by (a, b).
+    /// Stretch and shear springs between two free nodes, sorted by (a, b).
     const std::vector<LevelSpring>& freeSprings() const { return mFreeSprings; }
-    /// Springs from a free node (a) to an attached one (b).
+    /// Stretch and shear springs from a free node (a) to an attached one (b).
     const std::vector<LevelSpring>& attachedSprings() const { return mAttachedSprings; }
+    /// Bending springs, the same two ways: orders of magnitude softer, so a factor leaves them
+    /// out unless the substep makes them stiff (SubstepFactor::includesBending).
+    const std::vector<LevelSpring>& freeBendSprings() const { return mFreeBendSprings; }
+    const std::vector<LevelSpring>& attachedBendSprings() const { return mAttachedBendSprings; }
     /// Strain-limited edges over nodes (at least one end free), sorted.
     const std::vector<LimitedEdge>& limitedEdges() const { return mLimitedEdges; }
     /// Per free node; empty when nothing is attached or no rest shape was given.
     const std::vector<LevelTether>& tethers() const { return mTethers; }
 
     /// The local/global matrix for substeps of h [s], (0, 1]: M / h^2 + sum_s k_s (e_a - e_b)(e_a - e_b)^T
-    /// over the free nodes (Liu et al. 2013, Bouaziz et al. 2014), factored as L L^T. Costs a
-    /// numeric factorisation (about 10 ms at 4,000 nodes): build once per substep size and share.
+    /// over the free nodes (Liu et al. 2013, Bouaziz et al. 2014), factored as L L^T; bending
+    /// springs join the sum only where they are stiff at this h (explicitly they would need
+    /// h^2 sum k / m > 0.1 at some node). Costs a numeric factorisation (about 10 ms at 4,000
+    /// nodes): build once per substep size and share.
     Result<std::shared_ptr<const SubstepFactor>> buildFactor(double h) const;
 
 private:
@@ -93,13 +99,9 @@ private:
     uint32_t mFreeNodeCount = 0;
     std::vector<double> mNodeMass;
     double mTotalMass = 0.0;
-    std::vector<LevelSpring> mFreeSprings, mAttachedSprings;
+    std::vector<LevelSpring> mFreeSprings, mAttachedSprings, mFreeBendSprings, mAttachedBendSprings;
     std::vector<LimitedEdge> mLimitedEdges;
     std::vector<LevelTether> mTethers;
-    // Lower triangle of the stiffness Laplacian over free nodes (column-compressed, diagonal first
-    // in each column), and per column the slot of its diagonal: buildFactor adds M / h^2 there.
-    std::vector<uint32_t> mColumnStart, mRows;
-    std::vector<double> mValues;
 };
 
 /// The Cholesky factor L of one level's local/global matrix for one substep size, stored
@@ -108,6 +110,8 @@ private:
 class SubstepFactor {
 public:
     double substep() const { return mSubstep; }  ///< [s] h
+    /// Whether the bending springs are in the matrix (else the solvers treat them explicitly).
+    bool includesBending() const { return mIncludesBending; }
     uint32_t size() const { return uint32_t(mInverseDiagonal.size()); }
     std::size_t nonZeros() const { return mRows.size() + mInverseDiagonal.size(); }
 
@@ -124,6 +128,7 @@ private:
     void solve(double* x) const;
 
     double mSubstep = 0.0;
+    bool mIncludesBending = false;
     std::vector<uint32_t> mColumnStart, mRows;     // strictly lower part by columns
     std::vector<double> mValues;
     std::vector<uint32_t> mRowStart, mRowColumns;  // the same by rows
