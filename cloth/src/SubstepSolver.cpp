@@ -32,6 +32,11 @@ Status SubstepSettings::validate() const {
 
 namespace {
 
+// How much less a vertex the body pushed this step moves in the strain limit after the push
+// than its neighbours: enough that they follow it, while an edge between two pushed vertices can
+// still be shortened.
+constexpr double kPinnedWeight = 0.05;
+
 bool finite3(const double* x, int stride) {
     return std::isfinite(x[0]) && std::isfinite(x[stride]) && std::isfinite(x[2 * stride]);
 }
@@ -69,9 +74,21 @@ std::string nonFiniteInput(const SubstepLane& lane) {
 template <int W>
 class Kernel {
 public:
-    Kernel(const ClothLevel& level, const SubstepFactor& factor, double dt, const SubstepSettings& settings,
+    Kernel(const ClothLevel& level, const SubstepFactor* factor, double dt, const SubstepSettings& settings,
            SubstepWorkspace& w)
         : mLevel(level), mFactor(factor), mDt(dt), mSettings(settings), mW(w) {}
+
+    // Only the strain limit, with the flagged vertices (and their nodes) held in place.
+    int limitOnly(const SubstepLane& lane, Span<const uint8_t> fixedVertices) {
+        static_assert(W == 1, "one lane");
+        gather(Span<const SubstepLane>(&lane, 1));
+        for (std::size_t v = 0; v < fixedVertices.size(); ++v)
+            if (fixedVertices[v]) mW.fixedNodes[mLevel.nodeOfVertex()[v]] = 1;
+        int passes[W] = {};
+        limitStrain(passes);
+        if (finiteLane(0)) scatter(0, lane);
+        return passes[0];
+    }
 
     void run(Span<const SubstepLane> lanes, Span<SubstepLaneReport> reports) {
         gather(lanes);
@@ -106,6 +123,7 @@ private:
             a->assign(std::size_t(nodes) * kRow, 0.0);  // zero padding stays zero
         mW.attachedStart.assign(std::size_t(attached) * kRow, 0.0);
         mW.attachedEnd.assign(std::size_t(attached) * kRow, 0.0);
+        mW.fixedNodes.assign(std::size_t(nodes) * W, 0);
         const auto& vertexOfNode = mLevel.vertexOfNode();
         const uint32_t free = mLevel.freeNodeCount();
         for (int l = 0; l < W; ++l) {
@@ -136,7 +154,7 @@ private:
     }
 
     void substep(int s, int n) {
-        const double h = mFactor.substep();
+        const double h = mFactor->substep();
         const double h2 = h * h;
         const uint32_t free = mLevel.freeNodeCount();
         const uint32_t nodes = mLevel.nodeCount();
@@ -146,7 +164,7 @@ private:
         double* prev = mW.previous.data();
         double* y = mW.predicted.data();
         const bool newton = mSettings.method == SubstepMethod::Newton;
-        const bool explicitBending = !newton && !mFactor.includesBending();
+        const bool explicitBending = !newton && !mFactor->includesBending();
 
         // Soft bending the factor leaves out acts explicitly in the local/global method: its
         // forces at the substep's start join the prediction.
@@ -193,7 +211,7 @@ private:
             double* b = mW.solution.data();
             for (int it = 0; it < mSettings.iterations; ++it) {
                 localStep(x, y, b, mass, h2);
-                mFactor.solveInPlace(b, kRow);  // global step with the shared factor
+                mFactor->solveInPlace(b, kRow);  // global step with the shared factor
                 for (std::size_t i = 0; i < std::size_t(free) * kRow; ++i) x[i] = b[i];
             }
         }
@@ -239,7 +257,7 @@ private:
         }
         projections(mLevel.freeSprings(), x, b, true);
         projections(mLevel.attachedSprings(), x, b, false);
-        if (mFactor.includesBending()) {
+        if (mFactor->includesBending()) {
             projections(mLevel.freeBendSprings(), x, b, true);
             projections(mLevel.attachedBendSprings(), x, b, false);
         }
@@ -378,7 +396,7 @@ private:
         }
         auto precondition = [&] {
             std::copy(r, r + size, z);
-            mFactor.solveInPlace(z, kRow);
+            mFactor->solveInPlace(z, kRow);
         };
         precondition();
         std::copy(z, z + size, p);
@@ -405,8 +423,10 @@ private:
         for (std::size_t i = 0; i < size; ++i) x[i] += d[i];
     }
 
-    // Provot's strain limit after the step, tethers first (see StrainLimiter).
+    // Provot's strain limit after the step, tethers first (see StrainLimiter); nodes flagged in
+    // mW.fixedNodes do not move.
     void limitStrain(int (&outPasses)[W]) {
+        const uint8_t* fixed = mW.fixedNodes.data();
         const double limit = mSettings.strainLimit;
         const double tolerance = 1e-3 * limit;
         const uint32_t free = mLevel.freeNodeCount();
@@ -420,6 +440,7 @@ private:
         for (; pass < mSettings.strainLimitPasses; ++pass) {
             bool corrected[W] = {};
             for (uint32_t k = 0; k < tethers.size(); ++k) {
+                const uint8_t* pinned = fixed + std::size_t(k) * W;
                 double* xi = x + std::size_t(k) * kRow;
                 double* vi = v + std::size_t(k) * kRow;
                 const double* xa = x + std::size_t(tethers[k].anchor) * kRow;
@@ -427,7 +448,7 @@ private:
                 for (int l = 0; l < W; ++l) {
                     const double dx = xi[l] - xa[l], dy = xi[W + l] - xa[W + l], dz = xi[2 * W + l] - xa[2 * W + l];
                     const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-                    if (!(length > maxLength * (1.0 + tolerance))) continue;
+                    if (pinned[l] || !(length > maxLength * (1.0 + tolerance))) continue;
                     const double scale = maxLength / length - 1.0;
                     xi[l] += scale * dx, xi[W + l] += scale * dy, xi[2 * W + l] += scale * dz;
                     vi[l] += scale * dx / mDt, vi[W + l] += scale * dy / mDt, vi[2 * W + l] += scale * dz / mDt;
@@ -435,17 +456,20 @@ private:
                 }
             }
             for (const LimitedEdge& e : mLevel.limitedEdges()) {
-                const double wa = e.a < free ? 1.0 / mass[e.a] : 0.0;
-                const double wb = e.b < free ? 1.0 / mass[e.b] : 0.0;
+                const double ma = e.a < free ? 1.0 / mass[e.a] : 0.0;
+                const double mb = e.b < free ? 1.0 / mass[e.b] : 0.0;
+                const uint8_t* pinnedA = fixed + std::size_t(e.a) * W;
+                const uint8_t* pinnedB = fixed + std::size_t(e.b) * W;
                 double* xa = x + std::size_t(e.a) * kRow;
                 double* xb = x + std::size_t(e.b) * kRow;
                 double* va = v + std::size_t(e.a) * kRow;
                 double* vb = v + std::size_t(e.b) * kRow;
                 const double maxLength = (1.0 + limit) * e.restLength;
                 for (int l = 0; l < W; ++l) {
+                    const double wa = pinnedA[l] ? kPinnedWeight * ma : ma, wb = pinnedB[l] ? kPinnedWeight * mb : mb;
                     const double dx = xb[l] - xa[l], dy = xb[W + l] - xa[W + l], dz = xb[2 * W + l] - xa[2 * W + l];
                     const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-                    if (!(length > maxLength + tolerance * e.restLength)) continue;
+                    if (wa + wb == 0.0 || !(length > maxLength + tolerance * e.restLength)) continue;
                     const double scale = (length - maxLength) / (length * (wa + wb));
                     const double sx = scale * dx, sy = scale * dy, sz = scale * dz;
                     xa[l] += wa * sx, xa[W + l] += wa * sy, xa[2 * W + l] += wa * sz;
@@ -484,7 +508,7 @@ private:
     }
 
     const ClothLevel& mLevel;
-    const SubstepFactor& mFactor;
+    const SubstepFactor* mFactor;  // null for the limit-only pass
     double mDt;
     const SubstepSettings& mSettings;
     SubstepWorkspace& mW;
@@ -493,6 +517,22 @@ private:
 };
 
 } // namespace
+
+Status limitStrain(const ClothLevel& level, double dt, const SubstepSettings& settings, const SubstepLane& lane,
+                   Span<const uint8_t> fixedVertices, SubstepWorkspace& workspace, int* outPasses) {
+    if (Status s = settings.validate(); !s) return s;
+    if (!(dt > 0.0 && dt <= 1.0)) return Status::invalidArgument("limitStrain: dt = " + std::to_string(dt) + " s is outside (0, 1]");
+    if (Status s = checkLane(level, lane, 0); !s) return s;
+    if (!fixedVertices.empty() && fixedVertices.size() != level.vertexCount())
+        return Status::invalidArgument("limitStrain: one fixed flag per vertex, or none");
+    int passes = 0;
+    if (settings.strainLimit > 0.0) {
+            passes = Kernel<1>(level, nullptr, dt, settings, workspace)
+                     .limitOnly(lane, fixedVertices);
+    }
+    if (outPasses) *outPasses = passes;
+    return Status::ok();
+}
 
 Status stepSubsteps(const ClothLevel& level, const SubstepFactor& factor, double dt, const SubstepSettings& settings,
                     Span<const SubstepLane> lanes, SubstepWorkspace& workspace, Span<SubstepLaneReport> outReports) {
@@ -515,11 +555,11 @@ Status stepSubsteps(const ClothLevel& level, const SubstepFactor& factor, double
             outReports[l].status = Status::error(StatusCode::NumericalFailure, "stepSubsteps: " + bad);
     }
     switch (lanes.size()) {
-    case 1: Kernel<1>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
-    case 2: Kernel<2>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
+    case 1: Kernel<1>(level, &factor, dt, settings, workspace).run(lanes, outReports); break;
+    case 2: Kernel<2>(level, &factor, dt, settings, workspace).run(lanes, outReports); break;
     case 3:
-    case 4: Kernel<4>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
-    default: Kernel<8>(level, factor, dt, settings, workspace).run(lanes, outReports); break;
+    case 4: Kernel<4>(level, &factor, dt, settings, workspace).run(lanes, outReports); break;
+    default: Kernel<8>(level, &factor, dt, settings, workspace).run(lanes, outReports); break;
     }
     return Status::ok();
 }

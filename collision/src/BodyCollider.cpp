@@ -39,6 +39,10 @@ struct BodyCollider::Impl {
     // vertex normals, and per triangle edge the sum of the face normals sharing that edge.
     std::vector<Vec3> faceNormal, vertexNormal, edgeNormal;
     std::vector<uint8_t> degenerate;
+    // Connected parts (triangles sharing vertices): a body is often several closed surfaces that
+    // overlap (a thigh into the pelvis), and a point outside the nearest one may be inside another.
+    std::vector<uint32_t> part;
+    uint32_t partCount = 0;
     // Triangle-edge slots (3 t + k) grouped by undirected edge: slots of group g are
     // edgeSlots[edgeStart[g] .. edgeStart[g + 1]).
     std::vector<uint32_t> edgeSlots, edgeStart;
@@ -270,6 +274,26 @@ Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& devi
         impl->edgeSlots.push_back(keyed[i].second);
     }
     impl->edgeStart.push_back(uint32_t(keyed.size()));
+    {
+        std::vector<uint32_t> parent(positions.size());
+        for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+        auto find = [&](uint32_t v) {
+            while (parent[v] != v) v = parent[v] = parent[parent[v]];
+            return v;
+        };
+        for (const auto& tri : triangles)
+            for (int k = 1; k < 3; ++k) {
+                const uint32_t a = find(tri[0]), b = find(tri[k]);
+                if (a != b) parent[std::max(a, b)] = std::min(a, b);
+            }
+        std::vector<uint32_t> index(positions.size(), UINT32_MAX);
+        impl->part.resize(nt);
+        for (uint32_t t = 0; t < nt; ++t) {
+            const uint32_t root = find(triangles[t][0]);
+            if (index[root] == UINT32_MAX) index[root] = impl->partCount++;
+            impl->part[t] = index[root];
+        }
+    }
     impl->computeNormals();
     if (Status s = impl->buildScenes(); !s) return s;
     return std::unique_ptr<BodyCollider>(new BodyCollider(std::move(impl)));
@@ -309,13 +333,24 @@ const BodyColliderStats& BodyCollider::stats() const { return mImpl->stats; }
 
 namespace {
 
+/// The nearest point of one part of the body.
+struct PartCandidate {
+    uint32_t part = UINT32_MAX;
+    double best2 = 0.0;  // squared distance
+    uint32_t triangle = UINT32_MAX;
+    ClosestPoint closest;
+};
+
+/// The nearest point of each of the nearest parts within reach (kParts at most; a point is rarely
+/// within reach of more than two or three).
 struct ProximitySearch {
+    static constexpr int kParts = 4;
     const BodyCollider::Impl* body;
     Vec3 p;
-    double best2;  // squared distance of the best candidate so far
-    uint32_t triangle;
-    ClosestPoint closest;
+    double reach2;
     double scale;
+    PartCandidate parts[kParts];
+    int count = 0;
 };
 
 bool proximityCallback(RTCPointQueryFunctionArguments* args) {
@@ -327,13 +362,31 @@ bool proximityCallback(RTCPointQueryFunctionArguments* args) {
     const ClosestPoint c = detail::closestPointOnTriangle(search->p, body.current[tri[0]], body.current[tri[1]],
                                                           body.current[tri[2]]);
     const double d2 = (search->p - c.point).squaredNorm();
+    if (d2 > search->reach2) return false;
+    const uint32_t part = body.part[t];
+    int slot = 0;
+    while (slot < search->count && search->parts[slot].part != part) ++slot;
+    if (slot == search->count) {
+        if (search->count < ProximitySearch::kParts) {
+            ++search->count;
+        } else {
+            // Full: replace the farthest part if this one is nearer.
+            slot = 0;
+            for (int k = 1; k < search->count; ++k)
+                if (search->parts[k].best2 > search->parts[slot].best2) slot = k;
+            if (d2 >= search->parts[slot].best2) return false;
+        }
+        search->parts[slot] = {part, d2, t, c};
+        return true;
+    }
+    PartCandidate& best = search->parts[slot];
     // Ties go to the lower triangle index, so the result does not depend on traversal order.
-    if (d2 < search->best2 || (d2 == search->best2 && t < search->triangle)) {
-        search->best2 = d2;
-        search->triangle = t;
-        search->closest = c;
-        // Shrink the search sphere (ECOSYSTEM.md pitfall 4), widened for Embree's float boxes.
-        args->query->radius = std::min(args->query->radius, widen(std::sqrt(d2), search->scale));
+    if (d2 < best.best2 || (d2 == best.best2 && t < best.triangle)) {
+        best.best2 = d2;
+        best.triangle = t;
+        best.closest = c;
+        // One part within reach: the search sphere can shrink to it (ECOSYSTEM.md pitfall 4).
+        if (body.partCount == 1) args->query->radius = std::min(args->query->radius, widen(std::sqrt(d2), search->scale));
         return true;
     }
     return false;
@@ -353,15 +406,18 @@ Status BodyCollider::queryProximity(Span<const Vec3> points, const ContactQuery&
     if (Status s = detail::checkPoints(points, "BodyCollider::queryProximity"); !s) return s;
     const Impl& body = *mImpl;
     const double reach = query.reach();
-    // One slot per point, filled in parallel, then compacted in index order: sorted by vertex and
-    // independent of thread timing.
-    outContacts.resize(points.size());
+    // kParts slots per point, filled in parallel, then compacted in index order: sorted by vertex
+    // and independent of thread timing.
+    constexpr int kParts = ProximitySearch::kParts;
+    outContacts.resize(points.size() * kParts);
     parallelFor(int64_t(points.size()), query.parallel, [&](int64_t begin, int64_t end) {
         detail::ScopedFlushDenormals ftz;
         for (int64_t i = begin; i < end; ++i) {
-            Contact& c = outContacts[i];
-            c.vertex = UINT32_MAX;
-            ProximitySearch search{&body, points[i], reach * reach * (1.0 + 1e-12), UINT32_MAX, {}, 0.0};
+            for (int k = 0; k < kParts; ++k) outContacts[i * kParts + k].vertex = UINT32_MAX;
+            ProximitySearch search;
+            search.body = &body;
+            search.p = points[i];
+            search.reach2 = reach * reach * (1.0 + 1e-12);
             search.scale = points[i].cwiseAbs().maxCoeff() + reach;
             RTCPointQuery q;
             q.x = float(points[i].x()), q.y = float(points[i].y()), q.z = float(points[i].z());
@@ -370,26 +426,34 @@ Status BodyCollider::queryProximity(Span<const Vec3> points, const ContactQuery&
             RTCPointQueryContext context;
             rtcInitPointQueryContext(&context);
             rtcPointQuery(body.scene, &q, &context, proximityCallback, &search);
-            if (search.triangle == UINT32_MAX) continue;
-            const double dist = std::sqrt(search.best2);
-            if (dist > reach) continue;
-            const Vec3 pseudo = body.pseudonormal(search.triangle, search.closest.feature);
-            const Vec3 away = points[i] - search.closest.point;
-            const bool inside = away.dot(pseudo) < 0.0;
-            Vec3 normal;
-            if (search.closest.feature == Feature::Face || dist <= 1e-12 * search.scale) {
-                normal = pseudo.normalized();
-            } else {
-                normal = (inside ? -away : away) / dist;
+            // One contact per part within reach, each with its own side: a point inside any part
+            // is inside the body, and each part it is near bounds where it may go.
+            for (int k = 1; k < search.count; ++k)  // by part: a few entries, insertion sort
+                for (int j = k; j > 0 && search.parts[j].part < search.parts[j - 1].part; --j)
+                    std::swap(search.parts[j], search.parts[j - 1]);
+            for (int k = 0; k < search.count; ++k) {
+                const PartCandidate& found = search.parts[k];
+                const double dist = std::sqrt(found.best2);
+                const Vec3 pseudo = body.pseudonormal(found.triangle, found.closest.feature);
+                const Vec3 away = points[i] - found.closest.point;
+                const bool inside = away.dot(pseudo) < 0.0;
+                Vec3 normal;
+                if (found.closest.feature == Feature::Face || dist <= 1e-12 * search.scale) {
+                    normal = pseudo.normalized();
+                } else {
+                    normal = (inside ? -away : away) / dist;
+                }
+                Contact& c = outContacts[i * kParts + k];
+                c.vertex = uint32_t(i);
+                c.primitive = found.triangle;
+                c.part = found.part;
+                c.point = found.closest.point;
+                c.normal = normal;
+                c.surfaceVelocity = surfaceVelocity(body, found.triangle, found.closest.weights);
+                c.depth = query.thickness - (inside ? -dist : dist);
+                c.time = 1.0;
+                c.source = ContactSource::Proximity;
             }
-            c.vertex = uint32_t(i);
-            c.primitive = search.triangle;
-            c.point = search.closest.point;
-            c.normal = normal;
-            c.surfaceVelocity = surfaceVelocity(body, search.triangle, search.closest.weights);
-            c.depth = query.thickness - (inside ? -dist : dist);
-            c.time = 1.0;
-            c.source = ContactSource::Proximity;
         }
     });
     outContacts.erase(std::remove_if(outContacts.begin(), outContacts.end(),
@@ -443,6 +507,7 @@ bool sweptCallback(RTCPointQueryFunctionArguments* args) {
     const auto& w = hit.weights;
     best.vertex = 0;  // set by the caller
     best.primitive = t;
+    best.part = body.part[t];
     best.time = hit.toi;
     best.point = w[0] * body.current[tri[0]] + w[1] * body.current[tri[1]] + w[2] * body.current[tri[2]];
     best.normal = body.faceNormal[t];

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "crowdcloth/cloth/ClothSimulation.h"
-#include "crowdcloth/cloth/SymplecticEulerIntegrator.h"
 
 namespace cc {
 
@@ -57,20 +55,61 @@ std::vector<uint32_t> topLine(const lod::GarmentHierarchy& h) {
     return ids;
 }
 
-/// Substeps symplectic Euler needs for a 60 Hz frame at rest, or 0 when that is more than is
-/// ever worth it (the implicit solve is then cheaper per frame).
-int explicitSubstepsAtRest(const lod::ActiveMesh& active, const cloth::ClothMaterial& material) {
-    constexpr int kWorthIt = 64;
-    cloth::SimulationSettings settings;
-    settings.integrator = cloth::IntegratorKind::SymplecticEuler;
-    settings.parallel.maxThreads = 1;
-    auto sim = cloth::ClothSimulation::create(active.mesh, material, settings);
-    if (!sim.isOk()) return 0;
-    cloth::IntegratorSettings common;
-    common.damping = material.damping;
-    cloth::SymplecticEulerIntegrator probe(sim.value()->forceModel(), common, {});
-    const int n = probe.requiredSubsteps(1.0 / 60.0, sim.value()->state());
-    return n <= kWorthIt ? n : 0;
+/// Rows from (source, weight) lists, in row order.
+SparseInterpolation fromRows(const std::vector<std::vector<SparseInterpolation::Term>>& rows, uint32_t sourceCount) {
+    SparseInterpolation out;
+    out.sourceCount = sourceCount;
+    for (const auto& row : rows) {
+        out.terms.insert(out.terms.end(), row.begin(), row.end());
+        out.rowStart.push_back(uint32_t(out.terms.size()));
+    }
+    return out;
+}
+
+/// The refine and coarsen transfers between uniform levels `coarse` and `fine` = coarse + 1.
+void buildTransfers(const lod::GarmentHierarchy& hierarchy, CookedLevel& coarse, CookedLevel& fine) {
+    const lod::ActiveMesh& c = coarse.active;
+    const lod::ActiveMesh& f = fine.active;
+    // Refine: a vertex the coarse level has keeps its state; a new midpoint averages its ends.
+    std::vector<std::vector<SparseInterpolation::Term>> rows(f.simToVertex.size());
+    for (std::size_t s = 0; s < rows.size(); ++s) {
+        const uint32_t v = f.simToVertex[s];
+        if (c.vertexToSim[v] != lod::ActiveMesh::kNone) {
+            rows[s] = {{c.vertexToSim[v], 1.0}};
+        } else {
+            const auto ends = hierarchy.edgeEnds(v);
+            rows[s] = {{c.vertexToSim[ends[0]], 0.5}, {c.vertexToSim[ends[1]], 0.5}};
+        }
+    }
+    coarse.refine = fromRows(rows, uint32_t(c.simToVertex.size()));
+    // Coarsen: mass per hierarchy vertex at the fine level (copies summed).
+    std::vector<double> mass(hierarchy.vertexCount(), 0.0);
+    for (std::size_t s = 0; s < f.simToVertex.size(); ++s) mass[f.simToVertex[s]] += f.masses[s];
+    std::vector<std::vector<SparseInterpolation::Term>> velocity(hierarchy.vertexCount());
+    std::vector<double> total(hierarchy.vertexCount(), 0.0);
+    for (std::size_t s = 0; s < c.simToVertex.size(); ++s) {
+        const uint32_t v = c.simToVertex[s];
+        if (!velocity[v].empty()) continue;
+        velocity[v].push_back({f.vertexToSim[v], mass[v]});
+        total[v] = mass[v];
+    }
+    for (std::size_t s = 0; s < f.simToVertex.size(); ++s) {
+        const uint32_t v = f.simToVertex[s];
+        if (c.vertexToSim[v] != lod::ActiveMesh::kNone || f.vertexToSim[v] != s) continue;
+        for (uint32_t end : hierarchy.edgeEnds(v)) {
+            velocity[end].push_back({uint32_t(s), 0.5 * mass[v]});
+            total[end] += 0.5 * mass[v];
+        }
+    }
+    std::vector<std::vector<SparseInterpolation::Term>> positions(c.simToVertex.size()), velocities(c.simToVertex.size());
+    for (std::size_t s = 0; s < c.simToVertex.size(); ++s) {
+        const uint32_t v = c.simToVertex[s];
+        positions[s] = {{f.vertexToSim[v], 1.0}};
+        velocities[s] = velocity[v];
+        for (auto& term : velocities[s]) term.weight /= total[v];
+    }
+    fine.coarsenPositions = fromRows(positions, uint32_t(f.simToVertex.size()));
+    fine.coarsenVelocities = fromRows(velocities, uint32_t(f.simToVertex.size()));
 }
 
 } // namespace
@@ -120,8 +159,20 @@ Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc) {
         // each 4-8 level halves the triangle area, so h^2 halves too.
         const double h2 = desc.cellSize * desc.cellSize / std::pow(2.0, double(level));
         cooked.errorMetres = h2 / (8.0 * desc.foldRadius);
-        cooked.explicitSubsteps = explicitSubstepsAtRest(cooked.active, asset.material);
+        std::vector<uint32_t> attachedSims;
+        for (const AttachedVertex& a : cooked.attached) attachedSims.push_back(a.sim);
+        auto clothLevel = cloth::ClothLevel::cookMesh(cooked.active.mesh, asset.material, attachedSims, cooked.active.welds);
+        if (!clothLevel.isOk()) return Status::invalidArgument("ClothAssetDesc: level " + std::to_string(level) + ": " +
+                                                               clothLevel.status().message());
+        cooked.cloth = std::move(clothLevel).value();
+        const cloth::ClothLevel& cl = *cooked.cloth;
+        cooked.attachedSlot.resize(cl.attachedNodeCount());
+        for (const AttachedVertex& a : cooked.attached) {
+            const uint32_t node = cl.nodeOfVertex()[a.sim];
+            cooked.attachedSlot[node - cl.freeNodeCount()] = a.slot;
+        }
         asset.levels.push_back(std::move(cooked));
+        if (level > 0) buildTransfers(asset.levels[level].hierarchy, asset.levels[level - 1], asset.levels[level]);
     }
 
     std::vector<Vec3> renderPositions, renderNormals;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "crowdcloth/World.h"
+#include "crowdcloth/cloth/ClothLevel.h"
 #include "crowdcloth/cloth/ClothMaterial.h"
 #include "crowdcloth/core/SparseInterpolation.h"
 #include "crowdcloth/lod/ActiveMesh.h"
@@ -21,12 +22,21 @@ struct AttachedVertex {
 
 /// One uniform level of a cooked garment: what every instance simulating that level shares.
 struct CookedLevel {
-    lod::GarmentHierarchy hierarchy;  ///< at this uniform level, copied to transfer state
+    lod::GarmentHierarchy hierarchy;  ///< at this uniform level (for self-collision and tools)
     lod::ActiveMesh active;           ///< the solver's mesh (asset-space positions) and index maps
+    std::shared_ptr<const cloth::ClothLevel> cloth;  ///< the solver's cooked data
+    std::vector<uint32_t> attachedSlot;  ///< per attached node of `cloth`: its attachment slot
     SparseInterpolation render;       ///< render vertices from this level's simulation vertices
     std::vector<AttachedVertex> attached;  ///< by simulation index (welded copies included)
     double errorMetres = 0.0;         ///< [m] predicted drape error against the render level
-    int explicitSubsteps = 0;         ///< [-] symplectic Euler substeps per 60 Hz frame; 0 = not offered
+    /// State transfer to the next finer level (simulation vertices of level + 1 from this one's):
+    /// a new midpoint takes the mean position and velocity of its edge's ends, so momentum is kept
+    /// (lod's split rule). Empty for the finest level.
+    SparseInterpolation refine;
+    /// State transfer to the next coarser level (from this one's vertices): positions stay, a
+    /// merged midpoint hands half its mass and momentum to each end (lod's merge rule), so the
+    /// velocities are mass-weighted means. Empty for level 0.
+    SparseInterpolation coarsenPositions, coarsenVelocities;
 };
 
 /// A garment design cooked once and shared, immutable, by every instance (STYLE.md §5): the

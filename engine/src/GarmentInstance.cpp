@@ -1,6 +1,7 @@
 #include "GarmentInstance.h"
 
 #include "crowdcloth/cloth/ContactResponse.h"
+#include "crowdcloth/core/Hash.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,7 +10,16 @@
 namespace cc::detail {
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
 constexpr int kMorphFrames = 8;  ///< frames over which a level switch's render difference fades
+constexpr double kMaxCorrectionReach = 0.25;  ///< [m] most a correction looks for the body
+constexpr int kCorrectionLimitPasses = 32;    ///< sweeps of the strain limit after the body's pushes
+constexpr double kSurfaceFraction = 0.05;     ///< of the thickness: where the last push puts a vertex
+
+double msSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 /// Targets of bound points on a host-skinned body: the barycentric point of the host's vertices
 /// plus the bind offset (no skeleton, so no rotation to carry it with).
@@ -33,13 +43,14 @@ Status boundTargets(const SkinBinding& binding, CharacterInstance& character, Sp
     return binding.evaluate(character.body->anchorMesh, character.pose.skinMatrices(), outTargets, {}, {});
 }
 
-void weldCopies(const lod::ActiveMesh& active, cloth::ClothState& state) {
+/// Keeps welded copies together after per-vertex corrections (mass-weighted, so momentum stays).
+void weldCopies(const lod::ActiveMesh& active, std::vector<Vec3>& positions, std::vector<Vec3>& velocities) {
     for (const auto& [a, b] : active.welds) {
-        const double ma = state.masses[a], mb = state.masses[b];
-        const Vec3 x = (ma * state.positions[a] + mb * state.positions[b]) / (ma + mb);
-        const Vec3 v = (ma * state.velocities[a] + mb * state.velocities[b]) / (ma + mb);
-        state.positions[a] = state.positions[b] = x;
-        state.velocities[a] = state.velocities[b] = v;
+        const double ma = active.masses[a], mb = active.masses[b];
+        const Vec3 x = (ma * positions[a] + mb * positions[b]) / (ma + mb);
+        const Vec3 v = (ma * velocities[a] + mb * velocities[b]) / (ma + mb);
+        positions[a] = positions[b] = x;
+        velocities[a] = velocities[b] = v;
     }
 }
 
@@ -79,12 +90,19 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
         return s;
     }
 
-    cloth::SimulationSettings settings;
-    settings.parallel.maxThreads = 1;
-    auto sim = cloth::ClothSimulation::create(level0.active.mesh, g->mAsset->material, settings);
-    if (!sim.isOk()) return sim.status();
-    g->mSim = std::move(sim).value();
-    g->mSim->state().positions = start;
+    // Every buffer at the size of the finest level, so switching levels never allocates.
+    std::size_t vertices = 0, attachedNodes = 0;
+    for (const CookedLevel& level : g->mAsset->levels) {
+        vertices = std::max(vertices, level.active.simToVertex.size());
+        attachedNodes = std::max<std::size_t>(attachedNodes, level.cloth->attachedNodeCount());
+    }
+    for (auto* buffer : {&g->mPositions, &g->mVelocities, &g->mSwapPositions, &g->mSwapVelocities, &g->mStepStart})
+        buffer->reserve(vertices);
+    g->mContacts.reserve(vertices);
+    g->mNodeTargets.reserve(attachedNodes);
+    for (auto* buffer : {&g->mLocalRender, &g->mNormals, &g->mMorph}) buffer->reserve(g->mAsset->renderVertexCount);
+    g->mPositions = start;
+    g->mVelocities.assign(start.size(), Vec3::Zero());
     g->mLevel = 0;
     g->mRenderIndices.reserve(3 * g->mAsset->renderTriangles.size());
     for (const auto& t : g->mAsset->renderTriangles) g->mRenderIndices.insert(g->mRenderIndices.end(), t.begin(), t.end());
@@ -105,75 +123,77 @@ Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
     return Status::ok();
 }
 
-Result<bool> GarmentInstance::configure(int level, const cloth::SimulationSettings& settings) {
-    const cloth::SimulationSettings& now = mSim->settings();
-    if (level == mLevel && settings.integrator == now.integrator &&
-        settings.implicit.maxHalvings == now.implicit.maxHalvings && settings.strainLimit == now.strainLimit)
-        return false;
-    const CookedLevel& from = mAsset->levels[mLevel];
-    const CookedLevel& to = mAsset->levels[level];
-    // What is on screen now (including any fade still running from an earlier switch).
-    std::vector<Vec3> before = mLocalRender;
-    if (before.empty()) localRenderPositions(before);
-
-    lod::GarmentHierarchy h = from.hierarchy;
-    if (Status s = h.readState(from.active, mSim->state().positions, mSim->state().velocities); !s) return s;
-    if (Status s = h.setUniformLevel(uint32_t(level)); !s) return s;
-    std::vector<Vec3> positions, velocities;
-    h.writeState(to.active, positions, velocities);
-    auto sim = cloth::ClothSimulation::create(to.active.mesh, mAsset->material, settings);
-    if (!sim.isOk()) return sim.status();
-    mSim = std::move(sim).value();
-    mSim->state().positions = std::move(positions);
-    mSim->state().velocities = std::move(velocities);
-    mLevel = level;
-
-    std::vector<Vec3> after;
-    localRenderPositions(after);
-    mMorph.resize(after.size());
-    for (std::size_t r = 0; r < after.size(); ++r) mMorph[r] = before[r] - after[r];
+bool GarmentInstance::switchLevel(int level) {
+    if (level == mLevel) return false;
+    // What is on screen now (including any fade still running from an earlier switch) is kept in
+    // mMorph until the new level's render positions are known.
+    if (mLocalRender.empty()) localRenderPositions(mLocalRender);
+    mMorph = mLocalRender;
+    while (mLevel != level) {
+        const CookedLevel& from = mAsset->levels[mLevel];
+        if (level > mLevel) {
+            from.refine.apply(mPositions, mSwapPositions);
+            from.refine.apply(mVelocities, mSwapVelocities);
+            ++mLevel;
+        } else {
+            from.coarsenPositions.apply(mPositions, mSwapPositions);
+            from.coarsenVelocities.apply(mVelocities, mSwapVelocities);
+            --mLevel;
+        }
+        mPositions.swap(mSwapPositions);
+        mVelocities.swap(mSwapVelocities);
+    }
+    localRenderPositions(mLocalRender);
+    for (std::size_t r = 0; r < mMorph.size(); ++r) mMorph[r] -= mLocalRender[r];
     mMorphFramesLeft = kMorphFrames;
     return true;
 }
 
-Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdateContext& ctx,
-                               GarmentUpdateReport& outReport) {
-    using Clock = std::chrono::steady_clock;
+collision::BodyContactSettings GarmentInstance::contactSettings() const {
+    collision::BodyContactSettings settings;
+    settings.query.thickness = mAsset->desc.thickness;
+    settings.query.margin = mAsset->desc.thickness;
+    settings.continuous = context.continuous;
+    return settings;
+}
+
+Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateReport& outReport) {
     outReport = {};
     if (Status s = boundTargets(mAttachments, character, mTargets); !s) return s;
-    cloth::ConstraintSet& constraints = mSim->constraints();
     const CookedLevel& level = mAsset->levels[mLevel];
-    for (const AttachedVertex& a : level.attached)
-        if (Status s = constraints.setTarget(a.sim, mTargets[a.slot]); !s) return s;
-
-    // Body contacts as the collision module prescribes: planes from the still cloth against the
-    // body's end pose before the solve, swept and proximity corrections after it.
-    collision::BodyContactSettings contactSettings;
-    contactSettings.query.thickness = mAsset->desc.thickness;
-    contactSettings.query.margin = mAsset->desc.thickness;
-    contactSettings.continuous = ctx.continuous;
-    cloth::ContactResponse response;
-    response.thickness = mAsset->desc.thickness;
-    response.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
-    const collision::Collider* colliders[1] = {ctx.collider};
-    const Span<const collision::Collider* const> bodies(colliders, ctx.collider ? 1 : 0);
-    mStepStart = mSim->state().positions;
-    auto start = Clock::now();
-    constraints.clearContactPlanes();
-    if (ctx.collider) {
-        if (Status s = mContactStage.gather(bodies, mStepStart, mStepStart, contactSettings, mContacts); !s) return s;
-        if (Status s = cloth::applyContactPlanes(mContacts, response, constraints); !s) return s;
-        outReport.contacts = uint32_t(mContacts.size());
+    mNodeTargets.resize(level.attachedSlot.size());
+    for (std::size_t k = 0; k < level.attachedSlot.size(); ++k) mNodeTargets[k] = mTargets[level.attachedSlot[k]];
+    mStepStart = mPositions;
+    const auto start = Clock::now();
+    // Contact planes from the still cloth against the body's end pose, once for the whole update
+    // (the body sweeps past the cloth; the substeps move each plane along its surface velocity).
+    mContacts.clear();
+    if (context.collider) {
+        const collision::Collider* colliders[1] = {context.collider};
+        if (Status s = mContactStage.gather(colliders, mStepStart, mStepStart, contactSettings(), mContacts); !s)
+            return s;
     }
-    double collisionMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    outReport.contacts = uint32_t(mContacts.size());
+    outReport.collisionMs = msSince(start);
+    return Status::ok();
+}
 
-    if (Status s = mSim->step(ctx.dt); !s) return s;
+cloth::SubstepLane GarmentInstance::lane() {
+    cloth::SubstepLane lane;
+    lane.positions = mPositions;
+    lane.velocities = mVelocities;
+    lane.targets = mNodeTargets;
+    lane.contacts = mContacts;
+    lane.acceleration = context.acceleration;
+    return lane;
+}
 
-    start = Clock::now();
-    cloth::ClothState& state = mSim->state();
+Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport) {
+    const auto start = Clock::now();
+    const CookedLevel& level = mAsset->levels[mLevel];
     // Self-collision first: its impulses know nothing of the body, so the body's corrections have
     // the last word and no vertex ends inside the body.
-    if (ctx.selfCollision) {
+    if (context.selfCollision) {
         if (mSelfLevel != mLevel) {
             collision::SelfCollisionSettings selfSettings;
             selfSettings.thickness = 0.5 * mAsset->desc.thickness;
@@ -185,27 +205,65 @@ Status GarmentInstance::update(CharacterInstance& character, const GarmentUpdate
             mSelf = std::move(made).value();
             mSelfLevel = mLevel;
         }
-        mSelfMasses = state.masses;
+        mSelfMasses = level.active.masses;
         for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
         collision::SelfCollisionStats selfStats;
-        if (Status s = mSelf.resolve(mStepStart, state.positions, mSelfMasses, selfStats); !s) return s;
-        for (std::size_t v = 0; v < state.positions.size(); ++v)
-            state.velocities[v] = (state.positions[v] - mStepStart[v]) / ctx.dt;
-        outReport.failSafes = selfStats.failSafeActivations;
+        if (Status s = mSelf.resolve(mStepStart, mPositions, mSelfMasses, selfStats); !s) return s;
+        for (std::size_t v = 0; v < mPositions.size(); ++v) mVelocities[v] = (mPositions[v] - mStepStart[v]) / context.dt;
+        inOutReport.failSafes = selfStats.failSafeActivations;
     }
-    if (ctx.collider) {
-        if (Status s = mContactStage.gather(bodies, mStepStart, state.positions, contactSettings, mContacts); !s)
+    if (context.collider) {
+        // Reach as far as a vertex moved: one that the solve carried deeper into the body than the
+        // thickness (squeezed between two limbs, say) is still found inside and pushed out.
+        double moved = 0.0;
+        for (std::size_t v = 0; v < mPositions.size(); ++v) moved = std::max(moved, (mPositions[v] - mStepStart[v]).norm());
+        collision::BodyContactSettings settings = contactSettings();
+        settings.query.margin = std::clamp(moved, mAsset->desc.thickness, kMaxCorrectionReach);
+        const collision::Collider* colliders[1] = {context.collider};
+        if (Status s = mContactStage.gather(colliders, mStepStart, mPositions, settings, mContacts); !s) return s;
+        cloth::ContactResponse response;
+        response.thickness = mAsset->desc.thickness;
+        response.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
+        uint32_t corrected = 0;
+        mMoved.assign(mPositions.size(), 0);
+        if (Status s = cloth::resolveContacts(mContacts, response, *level.cloth, mPositions, mVelocities, &corrected,
+                                              mMoved);
+            !s)
             return s;
-        if (Status s = cloth::resolveContacts(mContacts, response, constraints, state); !s) return s;
+        if (corrected > 0) {
+            // A push out of one part of the body can end inside another (out of the pelvis, into
+            // the thigh it overlaps): one more proximity pass, which knows which part a point is in.
+            settings.continuous = false;
+            settings.query.margin = mAsset->desc.thickness;
+            if (Status s = mContactStage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
+            if (Status s = cloth::resolveContacts(mContacts, response, *level.cloth, mPositions, mVelocities, nullptr,
+                                                  mMoved);
+                !s)
+                return s;
+            // The strain limit again, with the pushed vertices held where the body put them: their
+            // neighbours follow instead of a lone vertex standing out of the cloth.
+            if (strainSettings.strainLimit > 0.0) {
+                cloth::SubstepSettings limit = strainSettings;
+                limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
+                if (Status s = cloth::limitStrain(*level.cloth, context.dt, limit, lane(), mMoved, mLimitWork); !s)
+                    return s;
+                // The body has the last word, but only against entering it: a vertex the limit pulled
+                // inside goes back to the surface, not to the full thickness, so the cloth
+                // stretches as little as the body forces (a limb driving the hem through a stride).
+                cloth::ContactResponse surface = response;
+                surface.thickness = kSurfaceFraction * response.thickness;
+                if (Status s = cloth::resolveContacts(mContacts, surface, *level.cloth, mPositions, mVelocities); !s)
+                    return s;
+            }
+        }
+        weldCopies(level.active, mPositions, mVelocities);
     }
-    collisionMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-    outReport.collisionMs = collisionMs;
-    weldCopies(level.active, state);
+    inOutReport.collisionMs += msSince(start);
     return Status::ok();
 }
 
 void GarmentInstance::localRenderPositions(std::vector<Vec3>& out) const {
-    mAsset->levels[mLevel].render.apply(mSim->state().positions, out);
+    mAsset->levels[mLevel].render.apply(mPositions, out);
 }
 
 void GarmentInstance::publish(const CharacterInstance& character, bool stateChanged) {
@@ -253,10 +311,29 @@ RenderMeshView GarmentInstance::renderView() const {
 }
 
 double GarmentInstance::specificKineticEnergy() const {
-    const cloth::ClothState& s = mSim->state();
-    double mass = 0.0;
-    for (double m : s.masses) mass += m;
-    return mass > 0.0 ? s.kineticEnergy() / mass : 0.0;
+    const auto& masses = mAsset->levels[mLevel].active.masses;
+    double mass = 0.0, energy = 0.0;
+    for (std::size_t v = 0; v < mVelocities.size(); ++v) {
+        mass += masses[v];
+        energy += 0.5 * masses[v] * mVelocities[v].squaredNorm();
+    }
+    return mass > 0.0 ? energy / mass : 0.0;
+}
+
+double GarmentInstance::maxEdgeStrain() const {
+    const cloth::ClothLevel& level = *mAsset->levels[mLevel].cloth;
+    double worst = 0.0;
+    for (const cloth::LimitedEdge& e : level.limitedEdges()) {
+        const Vec3& a = mPositions[level.vertexOfNode()[e.a]];
+        const Vec3& b = mPositions[level.vertexOfNode()[e.b]];
+        worst = std::max(worst, (b - a).norm() / e.restLength - 1.0);
+    }
+    return worst;
+}
+
+uint64_t GarmentInstance::hash() const {
+    const uint64_t h = hashBytes(mPositions.data(), mPositions.size() * sizeof(Vec3));
+    return hashBytes(mVelocities.data(), mVelocities.size() * sizeof(Vec3), h);
 }
 
 } // namespace cc::detail

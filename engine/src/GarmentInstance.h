@@ -8,7 +8,7 @@
 #include "CookedAsset.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/character/SkinBinding.h"
-#include "crowdcloth/cloth/ClothSimulation.h"
+#include "crowdcloth/cloth/SubstepSolver.h"
 #include "crowdcloth/collision/BodyContactStage.h"
 #include "crowdcloth/collision/SelfCollision.h"
 #include "crowdcloth/core/Contact.h"
@@ -22,6 +22,7 @@ struct GarmentUpdateContext {
     const collision::Collider* collider = nullptr;  ///< the body at the end of the step; null = none
     bool continuous = false;                        ///< swept tests against the body (fast limbs)
     bool selfCollision = false;
+    Vec3 acceleration = Vec3(0.0, -9.81, 0.0);      ///< [m/s^2] gravity in the character's frame
 };
 
 /// What the last update did besides the solve.
@@ -31,8 +32,15 @@ struct GarmentUpdateReport {
     double collisionMs = 0.0;  ///< [ms] contacts and self-collision
 };
 
-/// One garment on one character: its level, its simulation in the character's frame, its
-/// attachment to the body and its published render mesh.
+/// One garment on one character: its level, its state in the character's frame (positions and
+/// velocities per simulation vertex of its level, in arrays sized for the finest level at
+/// creation), its attachment to the body and its published render mesh. The cooked asset holds
+/// everything the levels share; a level switch moves the state through the cooked transfers and
+/// allocates nothing.
+///
+/// An update runs in three parts so that garments of one asset and level can share the solve:
+/// prepare() (targets and contact planes against the posed body), the batched stepSubsteps() on
+/// lane(), finish() (position corrections against the body, self-collision).
 class GarmentInstance {
 public:
     /// Places the asset on the character's body and starts at level 0, at rest in the body's
@@ -47,21 +55,30 @@ public:
     double importance() const { return mImportance; }
     int forcedLevel() const { return mForceLevel; }
     int level() const { return mLevel; }
-    const cloth::ClothSimulation& simulation() const { return *mSim; }
+    const CookedLevel& cookedLevel() const { return mAsset->levels[mLevel]; }
+    uint32_t vertexCount() const { return uint32_t(mPositions.size()); }
+    /// Where the bounding sphere's centre sits in the character's frame [m].
+    Vec3 localCentre() const { return mAsset->centroid + mPlacement; }
 
     lod::GarmentSchedule schedule;  ///< this frame's decision
     GarmentStats stats;
     double lastUpdateTime = 0.0;    ///< [s] world time of the last update
     std::string lastError;          ///< why the last failed update failed
+    GarmentUpdateContext context;   ///< this frame's update inputs (set before prepare())
+    cloth::SubstepLaneReport solveReport;  ///< what the batched solve did to this garment
 
-    /// Moves the state to another uniform level through the 4-8 hierarchy (mass and momentum
-    /// conserved) and/or to another solver; the render mesh fades out the difference so nothing
-    /// pops. Returns whether anything changed.
-    Result<bool> configure(int level, const cloth::SimulationSettings& settings);
-    /// Where the bounding sphere's centre sits in the character's frame [m].
-    Vec3 localCentre() const { return mAsset->centroid + mPlacement; }
-    /// One simulation update over ctx.dt with the character's body as it is this frame.
-    Status update(CharacterInstance& character, const GarmentUpdateContext& ctx, GarmentUpdateReport& outReport);
+    /// Moves the state to another uniform level through the cooked transfers (mass and momentum
+    /// conserved); the render mesh fades out the difference so nothing pops. Returns whether the
+    /// level changed.
+    bool switchLevel(int level);
+    /// Attachment targets and contact planes for an update against the character's body as it is
+    /// this frame (context set).
+    Status prepare(CharacterInstance& character, GarmentUpdateReport& outReport);
+    /// The solver's view of this garment for the update prepare() made ready.
+    cloth::SubstepLane lane();
+    /// After the solve: self-collision if asked, then the body's swept and proximity corrections
+    /// (and the strain limit of `strainSettings` around the vertices they pushed).
+    Status finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport);
     /// Writes the world-space render mesh (positions and normals as floats); `stateChanged` says
     /// whether the simulation moved since the last publish.
     void publish(const CharacterInstance& character, bool stateChanged);
@@ -69,13 +86,15 @@ public:
     RenderMeshView renderView() const;
     /// Kinetic energy per unit mass [J/kg]: the garment sleeps when this is tiny and unseen.
     double specificKineticEnergy() const;
-    uint64_t hash() const { return mSim->stateHash(); }
+    /// Largest (length / rest length - 1) over the level's strain-limited edges.
+    double maxEdgeStrain() const;
+    uint64_t hash() const;
 
 private:
     GarmentInstance() = default;
     Status bindAttachments(const CharacterInstance& character);
-    Status evaluateAttachments(const CharacterInstance& character, std::vector<Vec3>& outTargets) const;
     void localRenderPositions(std::vector<Vec3>& out) const;
+    collision::BodyContactSettings contactSettings() const;
 
     std::shared_ptr<const CookedAsset> mAsset;
     uint32_t mAssetIndex = 0;
@@ -84,16 +103,20 @@ private:
     int mForceLevel = -1;
     Vec3 mPlacement = Vec3::Zero();         ///< asset space -> body bind space
     int mLevel = 0;
-    std::unique_ptr<cloth::ClothSimulation> mSim;
+    std::vector<Vec3> mPositions, mVelocities;   ///< [m], [m/s] per simulation vertex, character frame
+    std::vector<Vec3> mSwapPositions, mSwapVelocities;  ///< level-switch scratch
     SkinBinding mAttachments;               ///< the asset's attachment line, bound to the body
-    std::vector<Vec3> mTargets;             ///< scratch: attachment targets (character space)
+    std::vector<Vec3> mTargets;             ///< per attachment slot (character space)
+    std::vector<Vec3> mNodeTargets;         ///< per attached node of the current level
     std::vector<Vec3> mMorph;               ///< render offsets left by a level switch, fading
     int mMorphFramesLeft = 0;
-    std::vector<Vec3> mLocalRender;         ///< scratch
-    std::vector<Vec3> mNormals;             ///< scratch
+    std::vector<Vec3> mLocalRender;         ///< render positions in the character's frame
+    std::vector<Vec3> mNormals;
     std::vector<float> mRenderPositions, mRenderNormals;
     collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
+    std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update
+    cloth::SubstepWorkspace mLimitWork;     ///< the strain limit after the body's corrections
     std::vector<Vec3> mStepStart;           ///< positions before the solve
     collision::SelfCollision mSelf;         ///< for the current level, made on first need
     int mSelfLevel = -1;

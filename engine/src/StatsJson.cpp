@@ -7,9 +7,8 @@ namespace {
 
 const char* solverName(SolverKind s) {
     switch (s) {
-    case SolverKind::ExplicitEuler: return "explicit";
-    case SolverKind::ImplicitPcg: return "implicit-pcg";
-    case SolverKind::ImplicitCholmod: return "implicit-cholmod";
+    case SolverKind::SubstepNewton: return "substep-newton";
+    case SolverKind::SubstepLocalGlobal: return "substep-local-global";
     }
     return "unknown";
 }
@@ -35,7 +34,8 @@ std::string WorldImpl::statsJson() const {
         << ",\"total\":" << f.totalMs << "},\"cpuMs\":{\"predicted\":" << f.predictedCpuMs
         << ",\"measured\":" << f.measuredCpuMs << ",\"budget\":" << f.budgetCpuMs << "},\"garments\":" << f.garments
         << ",\"updated\":" << f.updated << ",\"asleep\":" << f.asleep << ",\"visible\":" << f.visible
-        << ",\"failed\":" << f.failed << ",\"levelSwitches\":" << f.levelSwitches << ",\"perLevel\":[";
+        << ",\"failed\":" << f.failed << ",\"levelSwitches\":" << f.levelSwitches << ",\"batches\":" << f.batches
+        << ",\"perLevel\":[";
     for (int l = 0; l < 16; ++l) out << (l ? "," : "") << f.garmentsPerLevel[l];
     out << "],\"garmentStats\":[";
     bool first = true;

@@ -23,6 +23,11 @@ Status WorldDesc::validate() const {
     if (maxUpdateInterval < 1 || maxUpdateInterval > 64 || (maxUpdateInterval & (maxUpdateInterval - 1)))
         return Status::invalidArgument("WorldDesc.maxUpdateInterval must be a power of two in [1, 64]");
     if (maxThreads > 1024) return Status::invalidArgument("WorldDesc.maxThreads must be <= 1024");
+    if (substeps < 1 || substeps > 64) return Status::invalidArgument("WorldDesc.substeps must be in [1, 64]");
+    if (solverIterations < 1 || solverIterations > 100)
+        return Status::invalidArgument("WorldDesc.solverIterations must be in [1, 100]");
+    if (!(std::isfinite(strainLimit) && strainLimit >= 0.0 && strainLimit <= 10.0))
+        return Status::invalidArgument("WorldDesc.strainLimit must be in [0, 10]");
     return Status::ok();
 }
 
@@ -39,21 +44,10 @@ Status staleHandle(const char* what) {
     return Status::invalidArgument(std::string(what) + " is null, stale or from another world");
 }
 
-cloth::IntegratorKind integratorFor(lod::SolverChoice solver) {
-    switch (solver) {
-    case lod::SolverChoice::ExplicitEuler: return cloth::IntegratorKind::SymplecticEuler;
-    case lod::SolverChoice::ImplicitCholmod: return cloth::IntegratorKind::ImplicitCholmod;
-    case lod::SolverChoice::ImplicitPcg: break;
-    }
-    return cloth::IntegratorKind::ImplicitPcg;
-}
-
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
 
-/// [px] projected radius from which a garment gets the implicit step's full step-size control.
-constexpr double kHeroRadiusPx = 150.0;
 
 } // namespace
 
@@ -227,13 +221,10 @@ Status WorldImpl::scheduleFrame(double dt) {
             const std::size_t n = level.active.mesh.vertexCount();
             lod::LevelProfile lp;
             lp.errorMetres = level.errorMetres;
-            lp.costMs[int(lod::SolverChoice::ImplicitPcg)] =
-                mCostModel.predictMs(handle.index1, int(l), lod::SolverChoice::ImplicitPcg, n, 1);
-            if (mDesc.offerExplicit && level.explicitSubsteps > 0) {
-                lp.explicitSubsteps = level.explicitSubsteps;
-                lp.costMs[int(lod::SolverChoice::ExplicitEuler)] = mCostModel.predictMs(
-                    handle.index1, int(l), lod::SolverChoice::ExplicitEuler, n, level.explicitSubsteps);
-            }
+            lp.substeps = int(mDesc.substeps);
+            lp.iterations = int(mDesc.solverIterations);
+            lp.costMs[int(lod::SolverChoice::SubstepNewton)] = mCostModel.predictMs(
+                handle.index1, int(l), lod::SolverChoice::SubstepNewton, n, lp.substeps, lp.iterations);
             profile.levels[l] = lp;
         }
     });
@@ -267,67 +258,93 @@ Status WorldImpl::scheduleFrame(double dt) {
         if (const int forced = mItems[i].garment->forcedLevel(); forced >= 0) {
             s.level = forced;
             s.updateInterval = 1;
-            s.solver = lod::SolverChoice::ImplicitPcg;
         }
         mItems[i].garment->schedule = s;
     }
     return Status::ok();
 }
 
-void WorldImpl::updateGarment(const FrameItem& item, double dt) {
+template <typename Task>
+void WorldImpl::runTasks(std::size_t count, Task& task) {
+    if (mDesc.taskRunner) {
+        mDesc.taskRunner(mDesc.taskRunnerUserData, uint32_t(count),
+                         [](void* context, uint32_t index) { (*static_cast<Task*>(context))(index); }, &task);
+    } else {
+        parallelForEach(int64_t(count), threadCount(), [&](int64_t i) { task(uint32_t(i)); });
+    }
+}
+
+void WorldImpl::fail(GarmentInstance& g, const Status& status) {
+    g.stats.failed = true;
+    g.lastError = status.message();
+}
+
+Result<const cloth::SubstepFactor*> WorldImpl::factorFor(const GarmentInstance& g, double substep) {
+    const int level = g.schedule.level;
+    auto& slot = mFactors[FactorKey{g.assetIndex(), level, substep}];
+    if (!slot) {
+        auto built = g.asset().levels[level].cloth->buildFactor(substep);
+        if (!built.isOk()) {
+            mFactors.erase(FactorKey{g.assetIndex(), level, substep});
+            return built.status();
+        }
+        slot = std::move(built).value();
+    }
+    return slot.get();
+}
+
+void WorldImpl::prepareGarment(const FrameItem& item) {
     const auto start = Clock::now();
     GarmentInstance& g = *item.garment;
-    const lod::GarmentSchedule& schedule = g.schedule;
     GarmentStats& stats = g.stats;
-
-    cloth::SimulationSettings settings;
-    settings.integrator = integratorFor(schedule.solver);
-    settings.gravity = Vec3(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
-    settings.parallel.maxThreads = 1; // garments run in parallel; one thread each (measured faster)
-    // Step-size control is what keeps a garment pressed by the body mesh from gaining energy
-    // (measured on a cape on the walking mannequin: 0.2-0.6% strain with 6 halvings, 10% held only
-    // by the strain limiter with 0-2), but a step split 64 times costs 64 steps: the worst frames of
-    // a crowd came from it. So the full depth goes to garments that fill the screen, two halvings
-    // to the rest against the mesh, one against proxies.
-    const int fullDepth = int(mDesc.maxStepHalvings);
-    settings.implicit.maxHalvings = schedule.screenRadiusPx >= kHeroRadiusPx ? fullDepth
-                                    : schedule.collision >= lod::CollisionDetail::Mesh ? std::min(2, fullDepth)
-                                                                                       : std::min(1, fullDepth);
-    settings.strainLimit = mDesc.strainLimit;
-    auto configured = g.configure(schedule.level, settings);
-    Status status = configured.status();
-    if (status) {
-        GarmentUpdateContext ctx;
-        ctx.dt = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
-        ctx.continuous = schedule.collision == lod::CollisionDetail::MeshContinuous;
-        ctx.selfCollision = schedule.selfCollision && mDesc.selfCollision;
-        if (schedule.collision != lod::CollisionDetail::None) {
-            auto collider = schedule.collision == lod::CollisionDetail::Proxies
-                                ? item.character->proxyColliderAt(*mDevice, mTime)
-                                : item.character->meshColliderAt(*mDevice, mTime);
-            status = collider.status();
-            if (collider.isOk()) ctx.collider = collider.value();
-        }
-        GarmentUpdateReport report;
-        if (status) status = g.update(*item.character, ctx, report);
-        if (!status && settings.integrator != cloth::IntegratorKind::ImplicitPcg) {
-            // The cheap solver gave up (explicit stability, a failed factorisation): this update
-            // falls back to the implicit PCG, which is stable at any step.
-            settings.integrator = cloth::IntegratorKind::ImplicitPcg;
-            if (auto again = g.configure(schedule.level, settings); again.isOk())
-                status = g.update(*item.character, ctx, report);
-        }
-        stats.contacts = report.contacts;
-        stats.failSafes = report.failSafes;
-        stats.collisionMs = report.collisionMs;
+    stats.levelSwitched = g.switchLevel(g.schedule.level);
+    const lod::GarmentSchedule& schedule = g.schedule;
+    g.context.collider = nullptr;
+    g.context.continuous = schedule.collision == lod::CollisionDetail::MeshContinuous;
+    g.context.selfCollision = schedule.selfCollision && mDesc.selfCollision;
+    Status status;
+    if (schedule.collision != lod::CollisionDetail::None) {
+        auto collider = schedule.collision == lod::CollisionDetail::Proxies
+                            ? item.character->proxyColliderAt(*mDevice, mTime)
+                            : item.character->meshColliderAt(*mDevice, mTime);
+        status = collider.status();
+        if (collider.isOk()) g.context.collider = collider.value();
     }
-    g.lastUpdateTime = mTime;
-    stats.failed = !status.isOk();
-    stats.substeps = uint32_t(g.simulation().lastStats().substeps);
-    stats.iterations = uint32_t(g.simulation().lastStats().iterations);
-    if (stats.failed) g.lastError = status.message();
+    GarmentUpdateReport report;
+    if (status) status = g.prepare(*item.character, report);
+    stats.contacts = report.contacts;
+    stats.collisionMs = report.collisionMs;
+    if (!status) fail(g, status);
     stats.measuredMs = msSince(start);
-    if (configured.isOk() && configured.value()) stats.levelSwitched = true;
+}
+
+void WorldImpl::simulateBatch(Batch& batch) {
+    const auto start = Clock::now();
+    batch.lanes.clear();
+    batch.reports.resize(batch.items.size());
+    for (std::size_t item : batch.items) batch.lanes.push_back(mItems[item].garment->lane());
+    const Status status = cloth::stepSubsteps(*batch.level->cloth, *batch.factor, batch.dt, batch.settings,
+                                              batch.lanes, batch.workspace, batch.reports);
+    // The shared solve's time, split evenly: what each garment costs inside a batch.
+    const double share = msSince(start) / double(batch.items.size());
+    for (std::size_t k = 0; k < batch.items.size(); ++k) {
+        const FrameItem& item = mItems[batch.items[k]];
+        GarmentInstance& g = *item.garment;
+        const auto own = Clock::now();
+        g.solveReport = batch.reports[k];
+        Status result = status ? batch.reports[k].status : status;
+        GarmentUpdateReport report;
+        report.collisionMs = g.stats.collisionMs;
+        if (result) result = g.finish(batch.settings, report);
+        if (!result) fail(g, result);
+        g.stats.collisionMs = report.collisionMs;
+        g.stats.failSafes = report.failSafes;
+        g.stats.substeps = uint32_t(batch.settings.substeps);
+        g.stats.iterations = uint32_t(batch.settings.substeps * batch.settings.iterations);
+        g.lastUpdateTime = mTime;
+        g.publish(*item.character, true);
+        g.stats.measuredMs += share + msSince(own);
+    }
 }
 
 Status WorldImpl::step(double dt) {
@@ -358,47 +375,113 @@ Status WorldImpl::step(double dt) {
         mItems.push_back({GarmentId{h.index1, h.generation}, &g, mCharacters.get(g.character())});
     });
 
-    // Schedule first: it needs only bounding spheres, and it decides which bodies must be posed.
+    // 1. Schedule: it needs only bounding spheres, and it decides which bodies must be posed.
     auto phase = Clock::now();
     if (Status s = scheduleFrame(dt); !s) return s;
     fs.scheduleMs = msSince(phase);
 
+    mUpdates.clear();
+    mPublishOnly.clear();
+    const Vec3 gravity(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         GarmentInstance& g = *mItems[i].garment;
         g.stats = GarmentStats{};
         const int interval = g.schedule.updateInterval;
         // Spread garments at the same rate over the frames (by id) so the load stays even.
         g.stats.updated = interval > 0 && (fs.frame + mItems[i].id.index1) % uint64_t(interval) == 0;
+        if (g.stats.updated) {
+            g.context.dt = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
+            // Garments simulate in their character's frame, which only turns about +Y: gravity is
+            // the same vector there.
+            g.context.acceleration = gravity;
+            mUpdates.push_back(i);
+        } else if (g.schedule.visible) {
+            mPublishOnly.push_back(i);
+        }
     }
 
-    // One parallel pass: a garment's task poses its character's body on first need (once per
-    // character), updates the garment if it is due and publishes its render mesh if it is due or
-    // seen. One region instead of three: on a busy machine every barrier costs a time slice.
+    // 2. Bodies and contacts, in parallel over the updating garments: the first garment of a
+    //    character poses (and skins and refits) its body once; each then switches level and
+    //    gathers its attachment targets and contact planes.
     phase = Clock::now();
-    mWork.clear();
-    for (std::size_t i = 0; i < mItems.size(); ++i)
-        if (mItems[i].garment->stats.updated || mItems[i].garment->schedule.visible) mWork.push_back(i);
-    auto task = [&](int64_t k) {
-        const FrameItem& item = mItems[mWork[k]];
-        if (item.garment->stats.updated) updateGarment(item, dt);
-        item.garment->publish(*item.character, item.garment->stats.updated);
+    auto prepare = [&](uint32_t k) { prepareGarment(mItems[mUpdates[k]]); };
+    runTasks(mUpdates.size(), prepare);
+
+    // 3. Batches: garments of one asset, level, substep size and settings step together, in id
+    //    order, at most kMaxSubstepLanes at a time (a garment's result does not depend on its
+    //    batch). Factors are built here, serially, on first need.
+    using Key = BatchKey;
+    std::vector<Key>& keys = mBatchKeys;
+    keys.clear();
+    for (std::size_t i : mUpdates) {
+        const GarmentInstance& g = *mItems[i].garment;
+        if (g.stats.failed) continue;
+        keys.push_back({g.assetIndex(), g.level(), g.context.dt / double(mDesc.substeps), i});
+    }
+    std::sort(keys.begin(), keys.end(), [&](const Key& a, const Key& b) {
+        if (a.asset != b.asset) return a.asset < b.asset;
+        if (a.level != b.level) return a.level < b.level;
+        if (a.substep != b.substep) return a.substep < b.substep;
+        return mItems[a.item].id.index1 < mItems[b.item].id.index1;
+    });
+    mBatchCount = 0;
+    for (std::size_t k = 0; k < keys.size();) {
+        GarmentInstance& g = *mItems[keys[k].item].garment;
+        auto factor = factorFor(g, keys[k].substep);
+        std::size_t end = k + 1;
+        while (end < keys.size() && keys[end].asset == keys[k].asset && keys[end].level == keys[k].level &&
+               keys[end].substep == keys[k].substep)
+            ++end;
+        if (!factor.isOk()) {
+            for (std::size_t j = k; j < end; ++j) fail(*mItems[keys[j].item].garment, factor.status());
+            k = end;
+            continue;
+        }
+        for (; k < end; k += cloth::kMaxSubstepLanes) {
+            if (mBatchCount == mBatches.size()) mBatches.emplace_back();
+            Batch& batch = mBatches[mBatchCount++];
+            batch.level = &g.cookedLevel();
+            batch.factor = factor.value();
+            batch.dt = g.context.dt;
+            batch.settings = cloth::SubstepSettings{};
+            batch.settings.method = cloth::SubstepMethod::Newton;
+            batch.settings.substeps = int(mDesc.substeps);
+            batch.settings.iterations = int(mDesc.solverIterations);
+            batch.settings.strainLimit = mDesc.strainLimit;
+            batch.settings.contactThickness = g.asset().desc.thickness;
+            batch.settings.friction = cloth::Friction{g.asset().desc.friction, 0.8 * g.asset().desc.friction};
+            batch.items.clear();
+            for (std::size_t j = k; j < std::min(end, k + cloth::kMaxSubstepLanes); ++j) batch.items.push_back(keys[j].item);
+        }
+    }
+    fs.batches = uint32_t(mBatchCount);
+
+    // 4. Simulate and publish, in parallel over batches (and the garments only carried along).
+    auto simulate = [&](uint32_t k) {
+        if (k < mBatchCount) {
+            simulateBatch(mBatches[k]);
+        } else {
+            const FrameItem& item = mItems[mPublishOnly[k - mBatchCount]];
+            item.garment->publish(*item.character, false);
+        }
     };
-    if (mDesc.taskRunner) {
-        using Task = decltype(task);
-        mDesc.taskRunner(mDesc.taskRunnerUserData, uint32_t(mWork.size()),
-                         [](void* context, uint32_t index) { (*static_cast<Task*>(context))(index); }, &task);
-    } else {
-        parallelForEach(int64_t(mWork.size()), threadCount(), task);
+    runTasks(mBatchCount + mPublishOnly.size(), simulate);
+    // A garment whose update failed keeps its state; its render mesh still follows the body.
+    for (std::size_t i : mUpdates) {
+        GarmentInstance& g = *mItems[i].garment;
+        if (!g.stats.failed) continue;
+        g.lastUpdateTime = mTime;
+        g.publish(*mItems[i].character, false);
     }
     fs.simulateMs = msSince(phase);
 
-    // Totals and learning, in item order so the sums are the same for any thread count.
+    // 5. Totals and learning, in item order so the sums are the same for any thread count.
     for (const FrameItem& item : mItems) {
         GarmentInstance& g = *item.garment;
         GarmentStats& s = g.stats;
         const lod::GarmentSchedule& sc = g.schedule;
         s.level = g.level();
-        s.vertexCount = g.simulation().state().vertexCount();
+        s.vertexCount = g.vertexCount();
         s.solver = SolverKind(sc.solver);
         s.updateInterval = uint32_t(sc.updateInterval);
         s.collision = CollisionKind(sc.collision);
@@ -407,7 +490,7 @@ Status WorldImpl::step(double dt) {
         s.predictedErrorPx = sc.predictedErrorPx;
         s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;
         if (s.updated) {
-            s.maxStrain = g.simulation().maxEdgeStrain();
+            s.maxStrain = g.maxEdgeStrain();
             if (!s.failed && !s.levelSwitched)
                 mCostModel.record(g.assetIndex(), g.level(), sc.solver, s.measuredMs);
             ++fs.updated;

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <map>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 #include "CharacterInstance.h"
@@ -52,9 +54,31 @@ private:
         CharacterInstance* character;
     };
 
+    /// Garments stepped together: one asset, level, factor and settings; ordered by id.
+    struct Batch {
+        const CookedLevel* level = nullptr;
+        const cloth::SubstepFactor* factor = nullptr;
+        cloth::SubstepSettings settings;
+        double dt = 0.0;
+        std::vector<std::size_t> items;  ///< into mItems, at most cloth::kMaxSubstepLanes
+        cloth::SubstepWorkspace workspace;  ///< kept with the slot from frame to frame
+        std::vector<cloth::SubstepLane> lanes;
+        std::vector<cloth::SubstepLaneReport> reports;
+    };
+    using FactorKey = std::tuple<uint32_t, int, double>;  ///< asset index, level, substep [s]
+
     int threadCount() const;
+    /// Runs task(i) for i in [0, count) on the host's task runner or OpenMP.
+    template <typename Task>
+    void runTasks(std::size_t count, Task& task);
     Status scheduleFrame(double dt);
-    void updateGarment(const FrameItem& item, double dt);
+    /// The shared factor for an asset level and substep size, built on first need (serial).
+    Result<const cloth::SubstepFactor*> factorFor(const GarmentInstance& g, double substep);
+    /// Level switch, attachment targets and contact planes of one garment due this frame.
+    void prepareGarment(const FrameItem& item);
+    /// One batch: the shared solve, then each garment's corrections and render mesh.
+    void simulateBatch(Batch& batch);
+    void fail(GarmentInstance& g, const Status& status);
 
     WorldDesc mDesc;
     lod::CostModel mCostModel;
@@ -74,6 +98,18 @@ private:
     std::vector<lod::GarmentRequest> mRequests;
     std::vector<lod::GarmentSchedule> mSchedules;
     std::vector<std::size_t> mWork;          ///< items updated or seen this frame
+    std::vector<std::size_t> mUpdates;       ///< items updated this frame
+    std::vector<Batch> mBatches;             ///< this frame's solver batches (storage kept)
+    struct BatchKey {
+        uint32_t asset;
+        int level;
+        double substep;
+        std::size_t item;
+    };
+    std::vector<BatchKey> mBatchKeys;
+    std::size_t mBatchCount = 0;
+    std::vector<std::size_t> mPublishOnly;   ///< seen but not updated this frame
+    std::map<FactorKey, std::shared_ptr<const cloth::SubstepFactor>> mFactors;
 };
 
 } // namespace cc::detail

@@ -18,19 +18,18 @@ Status CostModel::validate() const {
     return Status::ok();
 }
 
-double CostModel::formulaMs(SolverChoice solver, std::size_t vertexCount, int substeps) const {
+double CostModel::formulaMs(SolverChoice solver, std::size_t vertexCount, int substeps, int iterations) const {
     const int k = static_cast<int>(solver);
-    const int passes = solver == SolverChoice::ExplicitEuler ? substeps : 1;
-    return mCoefficients.perUpdateMs + double(vertexCount) * mCoefficients.perVertexMs[k] * passes;
+    return mCoefficients.perUpdateMs + double(vertexCount) * mCoefficients.perVertexMs[k] * substeps * iterations;
 }
 
-double CostModel::predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount,
-                            int substeps) const {
+double CostModel::predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount, int substeps,
+                            int iterations) const {
     if (mMode == Mode::Learned) {
         auto it = mLearned.find({asset, level, static_cast<int>(solver)});
         if (it != mLearned.end()) return it->second.mean + 2.0 * it->second.deviation;
     }
-    return formulaMs(solver, vertexCount, substeps);
+    return formulaMs(solver, vertexCount, substeps, iterations);
 }
 
 void CostModel::record(uint32_t asset, int level, SolverChoice solver, double measuredMs) {

@@ -40,8 +40,8 @@ Status validateInputs(const SchedulerSettings& settings, Span<const SchedulerCam
                 offered = offered || cost > 0.0;
             }
             if (!offered) return Status::invalidArgument(at + " offers no solver (all costMs <= 0)");
-            if (level.explicitSubsteps < 1)
-                return Status::invalidArgument(at + ": explicitSubsteps must be >= 1");
+            if (level.substeps < 1 || level.iterations < 1)
+                return Status::invalidArgument(at + ": substeps and iterations must be >= 1");
         }
     }
     if (outSchedules.size() != requests.size())
@@ -257,7 +257,8 @@ GarmentSchedule finalSchedule(const GarmentView& g, const SchedulerSettings& s) 
     for (int k = 0; k < kSolverChoiceCount; ++k)
         if (level.costMs[k] > 0.0 && (solver < 0 || level.costMs[k] < level.costMs[solver])) solver = k;
     out.solver = static_cast<SolverChoice>(solver);
-    out.substeps = out.solver == SolverChoice::ExplicitEuler ? level.explicitSubsteps : 1;
+    out.substeps = level.substeps;
+    out.iterations = level.iterations;
 
     if (g.asleep) {
         out.updateInterval = 0;

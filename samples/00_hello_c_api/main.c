@@ -93,7 +93,7 @@ int main(void) {
             CHECK(cc_world_get_render_mesh(world, garment, &mesh));
             printf("t = %.0f s: level %d (%u vertices simulated, %u rendered), %s, %.2f ms, max strain %.2f%%\n",
                    frame * dt, gs.level, gs.vertex_count, mesh.vertex_count,
-                   gs.solver == 0 ? "explicit" : gs.solver == 1 ? "implicit PCG" : "implicit CHOLMOD",
+                   gs.solver == 0 ? "substep Newton" : "substep local/global",
                    gs.measured_ms, 100.0 * gs.max_strain);
         }
     }

@@ -29,8 +29,7 @@ GarmentProfile fiveLevels() {
     for (int l = 0; l < 5; ++l) {
         LevelProfile level;
         level.errorMetres = l == 4 ? 0.0 : 0.04 / std::pow(2.0, l);
-        level.costMs[int(SolverChoice::ImplicitPcg)] = 0.01 * std::pow(4.0, l);
-        level.costMs[int(SolverChoice::ImplicitCholmod)] = 0.03 * std::pow(4.0, l);
+        level.costMs[int(SolverChoice::SubstepNewton)] = 0.01 * std::pow(4.0, l);
         profile.levels.push_back(level);
     }
     return profile;
@@ -91,15 +90,17 @@ TEST(CrowdScheduler, LevelFallsAndIntervalGrowsWithDistance) {
 
 TEST(CrowdScheduler, PicksTheCheapestOfferedSolver) {
     GarmentProfile profile = fiveLevels();
-    profile.levels[0].costMs[int(SolverChoice::ExplicitEuler)] = 0.001;
-    profile.levels[0].explicitSubsteps = 40;
+    profile.levels[0].costMs[int(SolverChoice::SubstepLocalGlobal)] = 0.001;
+    profile.levels[0].substeps = 16;
+    profile.levels[0].iterations = 1;
     const auto out = schedule(unlimited(), {garmentAt(1, 900.0)}, profile);
     EXPECT_EQ(out[0].level, 0);
-    EXPECT_EQ(out[0].solver, SolverChoice::ExplicitEuler);
-    EXPECT_EQ(out[0].substeps, 40);
+    EXPECT_EQ(out[0].solver, SolverChoice::SubstepLocalGlobal);
+    EXPECT_EQ(out[0].substeps, 16);
+    EXPECT_EQ(out[0].iterations, 1);
     const auto near = schedule(unlimited(), {garmentAt(1, 1.0)}, profile);
-    EXPECT_EQ(near[0].solver, SolverChoice::ImplicitPcg);
-    EXPECT_EQ(near[0].substeps, 1);
+    EXPECT_EQ(near[0].solver, SolverChoice::SubstepNewton);
+    EXPECT_EQ(near[0].substeps, 4);
 }
 
 TEST(CrowdScheduler, StaysWithinBudgetWithTheFixedCostModel) {
@@ -256,7 +257,7 @@ TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     settings.maxUpdateInterval = 3;
     EXPECT_NE(run({garmentAt(1, 1.0)}, settings).message().find("maxUpdateInterval"), std::string::npos);
     GarmentProfile noSolver = fiveLevels();
-    noSolver.levels[2].costMs[1] = noSolver.levels[2].costMs[2] = 0.0;
+    noSolver.levels[2].costMs[0] = noSolver.levels[2].costMs[1] = 0.0;
     EXPECT_NE(run({garmentAt(1, 1.0)}, {}, noSolver).message().find("profile 0 level 2 offers no solver"),
               std::string::npos);
 }

@@ -34,8 +34,10 @@ struct WorldDesc {
     TaskRunner taskRunner = nullptr;  ///< the host's job system for the garment tasks; null = OpenMP
     void* taskRunnerUserData = nullptr;
     uint32_t maxUpdateInterval = 16;  ///< [frames] slowest update of a far garment, power of two
-    uint32_t maxStepHalvings = 6;     ///< [-] the implicit step splits a step that creates energy, up to
-                                      ///< 2^this substeps; [0, 10]
+    uint32_t substeps = 4;            ///< [-] solver substeps per garment update (backward Euler in
+                                      ///< small steps; accuracy grows with them); [1, 64]
+    uint32_t solverIterations = 4;    ///< [-] conjugate-gradient iterations per substep on the
+                                      ///< shared factor; [1, 100]
     double strainLimit = 0.1;         ///< [-] Provot limit on edge strain after each update (with tethers
                                       ///< to the attachments); 0 = off; [0, 10]
     bool selfCollision = false;       ///< let the scheduler turn garment self-collision on for the largest
@@ -44,10 +46,6 @@ struct WorldDesc {
                                       ///< 80 ms (twisted tube) per step
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
-    bool offerExplicit = false;       ///< let the scheduler pick symplectic Euler where its predicted
-                                      ///< cost is lowest (coarse levels); off by default: driven by
-                                      ///< attachments it diverged where the at-rest substep estimate
-                                      ///< held (each failure then falls back to the implicit step)
     Status validate() const;
 };
 
@@ -121,16 +119,17 @@ struct RenderMeshView {
     uint32_t triangleCount = 0;
 };
 
-enum class SolverKind : uint32_t { ExplicitEuler = 0, ImplicitPcg = 1, ImplicitCholmod = 2 };
+/// The substepped solver's methods: Newton steps by CG on a shared factor, local/global iterations.
+enum class SolverKind : uint32_t { SubstepNewton = 0, SubstepLocalGlobal = 1 };
 enum class CollisionKind : uint32_t { None = 0, Proxies = 1, Mesh = 2, MeshContinuous = 3 };
 
 /// What happened to one garment in the last frame.
 struct GarmentStats {
     int32_t level = -1;              ///< uniform level simulated
     uint32_t vertexCount = 0;        ///< simulated vertices
-    SolverKind solver = SolverKind::ImplicitPcg;
-    uint32_t substeps = 1;           ///< substeps the solver took (implicit: > 1 when it split a step)
-    uint32_t iterations = 0;         ///< PCG iterations over the update
+    SolverKind solver = SolverKind::SubstepNewton;
+    uint32_t substeps = 1;           ///< solver substeps of the update
+    uint32_t iterations = 0;         ///< solver iterations over the update (substeps x per substep)
     uint32_t updateInterval = 1;     ///< [frames] 0 = asleep
     bool updated = false;            ///< stepped this frame (else carried with its character, or asleep)
     bool levelSwitched = false;      ///< changed level or solver this frame
@@ -157,6 +156,7 @@ struct FrameStats {
     double measuredCpuMs = 0.0;      ///< [ms] sum of measured garment costs
     double budgetCpuMs = 0.0;        ///< [ms] what the scheduler was allowed (frame budget x threads)
     uint32_t garments = 0, updated = 0, asleep = 0, visible = 0, failed = 0, levelSwitches = 0;
+    uint32_t batches = 0;            ///< solver calls that stepped the updated garments together
     uint32_t garmentsPerLevel[16] = {};
     uint32_t threads = 1;
 };

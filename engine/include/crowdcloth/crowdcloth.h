@@ -99,7 +99,7 @@ typedef struct cc_render_mesh {
 typedef struct cc_garment_stats {
     int32_t level;
     uint32_t vertex_count;
-    uint32_t solver;          /* 0 explicit, 1 implicit PCG, 2 implicit CHOLMOD */
+    uint32_t solver;          /* 0 substep Newton, 1 substep local/global */
     uint32_t substeps;
     uint32_t update_interval; /* 0 = asleep */
     int32_t updated, level_switched;

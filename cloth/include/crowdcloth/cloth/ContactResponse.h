@@ -1,5 +1,6 @@
 #pragma once
 
+#include "crowdcloth/cloth/ClothLevel.h"
 #include "crowdcloth/cloth/ClothState.h"
 #include "crowdcloth/cloth/ConstraintSet.h"
 #include "crowdcloth/core/Contact.h"
@@ -30,5 +31,10 @@ Status applyContactPlanes(Span<const Contact> contacts, const ContactResponse& r
 /// left alone. Returns how many vertices moved through outCorrected when non-null.
 Status resolveContacts(Span<const Contact> contacts, const ContactResponse& response, const ConstraintSet& constraints,
                        ClothState& state, uint32_t* outCorrected = nullptr);
+/// The same for a substepped garment: the level's attached vertices are left alone. `outMoved`,
+/// when given (one flag per vertex), gets 1 for every vertex that was pushed.
+Status resolveContacts(Span<const Contact> contacts, const ContactResponse& response, const ClothLevel& level,
+                       Span<Vec3> positions, Span<Vec3> velocities, uint32_t* outCorrected = nullptr,
+                       Span<uint8_t> outMoved = {});
 
 } // namespace cc::cloth

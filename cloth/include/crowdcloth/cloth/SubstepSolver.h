@@ -75,6 +75,7 @@ struct SubstepWorkspace {
         double offsetAtEnd = 0.0;  ///< [m] the plane is {x : normal . x = offset}, at the step's end
     };
     std::vector<LaneContact> contacts[kMaxSubstepLanes];
+    std::vector<uint8_t> fixedNodes;  // [node][lane]: held in place by the strain limit
 };
 
 /// Backward Euler in small steps with a shared prefactored matrix. Per substep of h = dt / substeps,
@@ -103,5 +104,12 @@ struct SubstepWorkspace {
 /// non-finite input or result reports NumericalFailure in its report and keeps its state.
 Status stepSubsteps(const ClothLevel& level, const SubstepFactor& factor, double dt, const SubstepSettings& settings,
                     Span<const SubstepLane> lanes, SubstepWorkspace& workspace, Span<SubstepLaneReport> outReports);
+
+/// Provot's strain limit (with tethers) alone, after a step's contact corrections: vertices flagged
+/// in `fixedVertices` (one flag per simulation vertex, or empty) stay where the body put them and
+/// their neighbours follow, instead of a pushed vertex standing out from the cloth. Uses
+/// settings.strainLimit and strainLimitPasses; velocities change by the shift / dt.
+Status limitStrain(const ClothLevel& level, double dt, const SubstepSettings& settings, const SubstepLane& lane,
+                   Span<const uint8_t> fixedVertices, SubstepWorkspace& workspace, int* outPasses = nullptr);
 
 } // namespace cc::cloth

@@ -18,7 +18,7 @@ struct BodyContactSettings {
 
 /// Gathers one garment's body contacts for a step: proximity at `end` plus, when enabled, the
 /// swept test from `start` to `end`, over every collider of the character (a mesh, proxies or
-/// both), reduced to one contact per vertex (reduceContactsPerVertex) and sorted by vertex.
+/// both), reduced to one contact per vertex and body part (reduceContactsPerVertex), sorted by vertex.
 ///
 /// Used twice per step: before the solve with start = end = the cloth's positions (the body sweeps
 /// past still cloth), giving the contact planes; after the solve with (positions before, positions

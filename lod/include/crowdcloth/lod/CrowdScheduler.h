@@ -17,8 +17,10 @@ struct SchedulerCamera {
     double viewportHeight = 1080.0;         ///< [px] > 0
 };
 
-enum class SolverChoice : uint8_t { ExplicitEuler = 0, ImplicitPcg = 1, ImplicitCholmod = 2 };
-constexpr int kSolverChoiceCount = 3;
+/// The substepped solver's two methods (cloth/SubstepSolver.h): Newton steps with CG on the shared
+/// factor (accurate), local/global iterations (cheapest).
+enum class SolverChoice : uint8_t { SubstepNewton = 0, SubstepLocalGlobal = 1 };
+constexpr int kSolverChoiceCount = 2;
 
 /// How a garment meets its body, cheapest first.
 enum class CollisionDetail : uint8_t {
@@ -32,9 +34,10 @@ enum class CollisionDetail : uint8_t {
 struct LevelProfile {
     double errorMetres = 0.0;  ///< [m] deviation of this level's result from the finest level's
                                ///< (e.g. p95 vertex distance of the drape); >= 0, finest = 0
-    double costMs[kSolverChoiceCount] = {0.0, 0.0, 0.0}; ///< [ms] one step per solver; <= 0 means
-                                                         ///< the solver is not offered here
-    int explicitSubsteps = 1;  ///< [-] substeps the explicit solver needs at the frame rate; >= 1
+    double costMs[kSolverChoiceCount] = {0.0, 0.0}; ///< [ms] one update per solver; <= 0 means the
+                                                    ///< solver is not offered here
+    int substeps = 4;          ///< [-] solver substeps per update; >= 1
+    int iterations = 4;        ///< [-] solver iterations per substep; >= 1
 };
 
 /// The levels of one asset, coarsest first.
@@ -45,8 +48,9 @@ struct GarmentProfile {
 /// What the scheduler decided for one garment.
 struct GarmentSchedule {
     int level = -1;                       ///< index into the asset's levels (coarsest = 0); -1 = none yet
-    SolverChoice solver = SolverChoice::ImplicitPcg;
-    int substeps = 1;                     ///< [-] solver substeps per update
+    SolverChoice solver = SolverChoice::SubstepNewton;
+    int substeps = 4;                     ///< [-] solver substeps per update
+    int iterations = 4;                   ///< [-] solver iterations per substep
     CollisionDetail collision = CollisionDetail::None;
     bool selfCollision = false;
     int updateInterval = 1;               ///< [frames] 1, 2, 4, ...: updated every n-th frame and

@@ -26,6 +26,9 @@ enum class ContactSource : uint8_t {
 struct Contact {
     uint32_t vertex = 0;                ///< cloth vertex index
     uint32_t primitive = 0;             ///< body triangle (mesh) or proxy index that was hit
+    uint32_t part = 0;                  ///< connected surface of the body the primitive belongs to: a
+                                        ///< body of overlapping parts (a thigh into the pelvis) gives a
+                                        ///< vertex one contact per part within reach
     Vec3 point = Vec3::Zero();          ///< [m] surface point at the end of the step
     Vec3 normal = Vec3::Zero();         ///< [-] unit outward normal at `point`
     Vec3 surfaceVelocity = Vec3::Zero();///< [m/s] velocity of the body surface at `point`
@@ -34,22 +37,23 @@ struct Contact {
     ContactSource source = ContactSource::Proximity;
 };
 
-/// Full tie-break order for contact lists (STYLE.md §6): vertex, then primitive, then source.
+/// Full tie-break order for contact lists (STYLE.md §6): vertex, part, primitive, source.
 inline bool contactLess(const Contact& a, const Contact& b) {
     if (a.vertex != b.vertex) return a.vertex < b.vertex;
+    if (a.part != b.part) return a.part < b.part;
     if (a.primitive != b.primitive) return a.primitive < b.primitive;
     return a.source < b.source;
 }
 
-/// Sorts by contactLess and keeps one contact per vertex: a continuous contact wins over a
-/// proximity one (it knows which side the vertex came from); among continuous ones the earliest,
-/// among proximity ones the deepest; remaining ties keep the lower primitive. The result does not
-/// depend on the input order.
+/// Sorts by contactLess and keeps one contact per vertex and body part: a continuous contact wins
+/// over a proximity one (it knows which side the vertex came from); among continuous ones the
+/// earliest, among proximity ones the deepest; remaining ties keep the lower primitive. The result
+/// does not depend on the input order.
 inline void reduceContactsPerVertex(std::vector<Contact>& contacts) {
     std::sort(contacts.begin(), contacts.end(), contactLess);
     std::size_t out = 0;
     for (std::size_t i = 0; i < contacts.size(); ++i) {
-        if (out > 0 && contacts[out - 1].vertex == contacts[i].vertex) {
+        if (out > 0 && contacts[out - 1].vertex == contacts[i].vertex && contacts[out - 1].part == contacts[i].part) {
             const Contact& kept = contacts[out - 1];
             const Contact& c = contacts[i];
             bool better = false;
