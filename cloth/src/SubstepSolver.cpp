@@ -1,6 +1,7 @@
 #include "crowdcloth/cloth/SubstepSolver.h"
 
 #include <cmath>
+#include <cstring>
 #include <string>
 
 // The kernels index disjoint rows of one array through several pointers; telling the compiler so
@@ -42,18 +43,59 @@ bool finite3(const double* x, int stride) {
 }
 
 Status checkLane(const ClothLevel& level, const SubstepLane& lane, std::size_t index) {
-    const std::string where = "stepSubsteps: lane " + std::to_string(index);
+    auto where = [&] { return "stepSubsteps: lane " + std::to_string(index); };
     if (lane.positions.size() != level.vertexCount() || lane.velocities.size() != level.vertexCount())
-        return Status::invalidArgument(where + " has " + std::to_string(lane.positions.size()) + " positions and " +
+        return Status::invalidArgument(where() + " has " + std::to_string(lane.positions.size()) + " positions and " +
                                        std::to_string(lane.velocities.size()) + " velocities for a level of " +
                                        std::to_string(level.vertexCount()) + " vertices");
     if (lane.targets.size() != level.attachedNodeCount())
-        return Status::invalidArgument(where + " has " + std::to_string(lane.targets.size()) + " targets for " +
+        return Status::invalidArgument(where() + " has " + std::to_string(lane.targets.size()) + " targets for " +
                                        std::to_string(level.attachedNodeCount()) + " attached nodes");
     for (const Contact& c : lane.contacts)
         if (c.vertex >= level.vertexCount())
-            return Status::invalidArgument(where + ": a contact names vertex " + std::to_string(c.vertex));
+            return Status::invalidArgument(where() + ": a contact names vertex " + std::to_string(c.vertex));
     return Status::ok();
+}
+
+/// Sizes a workspace array; new entries (and so the padding of every row) are zero, and entries
+/// the kernel writes before it reads them are left as they are.
+void ensureSize(std::vector<double>& a, std::size_t n) {
+    if (a.size() != n) a.assign(n, 0.0);
+}
+
+// Lane arithmetic: the kernels run W instances side by side. With two or more lanes they work on
+// pairs of doubles (SSE2, which every x86-64 has, through the compiler's vector extensions); one
+// lane is plain double. Every lane sees the same IEEE operations in the same order either way
+// (FMA contraction is off), so a lane's result does not depend on its neighbours.
+typedef double Pair __attribute__((vector_size(16)));
+
+template <int W>
+struct Lanes {
+    using V = Pair;
+    static constexpr int kStep = 2;
+};
+template <>
+struct Lanes<1> {
+    using V = double;
+    static constexpr int kStep = 1;
+};
+
+template <typename V>
+inline V load(const double* p) {
+    V v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+template <typename V>
+inline void store(double* p, V v) {
+    std::memcpy(p, &v, sizeof v);
+}
+inline double vsqrt(double x) { return std::sqrt(x); }
+inline Pair vsqrt(Pair x) { return Pair{std::sqrt(x[0]), std::sqrt(x[1])}; }
+inline bool laneSet(bool mask, int) { return mask; }
+template <typename M>
+inline bool laneSet(const M& mask, int j) {
+    return mask[j] != 0;
 }
 
 /// First non-finite input of a lane, described, or empty.
@@ -119,10 +161,11 @@ private:
     void gather(Span<const SubstepLane> lanes) {
         const uint32_t nodes = mLevel.nodeCount();
         const uint32_t attached = mLevel.attachedNodeCount();
+        // Every entry but the padding is written before it is read; the padding stays zero.
         for (auto* a : {&mW.positions, &mW.velocities, &mW.previous, &mW.predicted, &mW.solution})
-            a->assign(std::size_t(nodes) * kRow, 0.0);  // zero padding stays zero
-        mW.attachedStart.assign(std::size_t(attached) * kRow, 0.0);
-        mW.attachedEnd.assign(std::size_t(attached) * kRow, 0.0);
+            ensureSize(*a, std::size_t(nodes) * kRow);
+        ensureSize(mW.attachedStart, std::size_t(attached) * kRow);
+        ensureSize(mW.attachedEnd, std::size_t(attached) * kRow);
         mW.fixedNodes.assign(std::size_t(nodes) * W, 0);
         const auto& vertexOfNode = mLevel.vertexOfNode();
         const uint32_t free = mLevel.freeNodeCount();
@@ -153,6 +196,9 @@ private:
         }
     }
 
+    using V = typename Lanes<W>::V;
+    static constexpr int S = Lanes<W>::kStep;
+
     void substep(int s, int n) {
         const double h = mFactor->substep();
         const double h2 = h * h;
@@ -164,28 +210,26 @@ private:
         double* prev = mW.previous.data();
         double* y = mW.predicted.data();
         const bool newton = mSettings.method == SubstepMethod::Newton;
-        const bool explicitBending = !newton && !mFactor->includesBending();
-
-        // Soft bending the factor leaves out acts explicitly in the local/global method: its
-        // forces at the substep's start join the prediction.
+        // Soft bending the factor leaves out acts explicitly (implicit-explicit splitting, stable
+        // by the factor's own test): its forces at the substep's start join the prediction.
+        const bool explicitBending = !mFactor->includesBending();
+        double* bend = mW.solution.data();
         if (explicitBending) {
-            double* f = mW.solution.data();
-            std::fill(f, f + std::size_t(nodes) * kRow, 0.0);
-            springForces(mLevel.freeBendSprings(), x, f, nullptr, true);
-            springForces(mLevel.attachedBendSprings(), x, f, nullptr, false);
+            std::fill(bend, bend + std::size_t(nodes) * kRow, 0.0);
+            springForces(mLevel.freeBendSprings(), x, bend, nullptr, true);
+            springForces(mLevel.attachedBendSprings(), x, bend, nullptr, false);
         }
         // Inertial prediction y = x + h v + h^2 a; the solve starts from x = y.
         for (uint32_t k = 0; k < free; ++k) {
-            const double* bend = mW.solution.data() + std::size_t(k) * kRow;
             const double scale = h2 / mass[k];
             for (int c = 0; c < 3; ++c) {
                 const std::size_t o = std::size_t(k) * kRow + c * W;
-                for (int l = 0; l < W; ++l) {
-                    prev[o + l] = x[o + l];
-                    double next = x[o + l] + h * v[o + l] + h2 * mAcceleration[c][l];
-                    if (explicitBending) next += scale * bend[c * W + l];
-                    y[o + l] = next;
-                    x[o + l] = next;
+                for (int l = 0; l < W; l += S) {
+                    store(prev + o + l, load<V>(x + o + l));
+                    V next = load<V>(x + o + l) + h * load<V>(v + o + l) + h2 * load<V>(&mAcceleration[c][l]);
+                    if (explicitBending) next += scale * load<V>(bend + o + l);
+                    store(y + o + l, next);
+                    store(x + o + l, next);
                 }
             }
         }
@@ -196,11 +240,12 @@ private:
             for (int c = 0; c < 3; ++c) {
                 const std::size_t o = std::size_t(k) * kRow + c * W;
                 const std::size_t t = std::size_t(k - free) * kRow + c * W;
-                for (int l = 0; l < W; ++l) {
-                    prev[o + l] = x[o + l];
-                    const double start = mW.attachedStart[t + l], end = mW.attachedEnd[t + l];
-                    x[o + l] = last ? end : start + fraction * (end - start);
-                    y[o + l] = x[o + l];
+                for (int l = 0; l < W; l += S) {
+                    store(prev + o + l, load<V>(x + o + l));
+                    const V start = load<V>(&mW.attachedStart[t + l]), end = load<V>(&mW.attachedEnd[t + l]);
+                    const V at = last ? end : start + fraction * (end - start);
+                    store(x + o + l, at);
+                    store(y + o + l, at);
                 }
             }
         }
@@ -212,7 +257,7 @@ private:
             for (int it = 0; it < mSettings.iterations; ++it) {
                 localStep(x, y, b, mass, h2);
                 mFactor->solveInPlace(b, kRow);  // global step with the shared factor
-                for (std::size_t i = 0; i < std::size_t(free) * kRow; ++i) x[i] = b[i];
+                std::copy(b, b + std::size_t(free) * kRow, x);
             }
         }
 
@@ -270,17 +315,24 @@ private:
             const double* CC_RESTRICT xb = x + std::size_t(sp.b) * kRow;
             double* CC_RESTRICT ba = b + std::size_t(sp.a) * kRow;
             double* CC_RESTRICT bb = b + std::size_t(sp.b) * kRow;
-            for (int l = 0; l < W; ++l) {
-                const double dx = xa[l] - xb[l], dy = xa[W + l] - xb[W + l], dz = xa[2 * W + l] - xb[2 * W + l];
-                const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-                const double scale = length > 0.0 ? sp.stiffness * sp.restLength / length : 0.0;
+            const double kl = sp.stiffness * sp.restLength;
+            for (int l = 0; l < W; l += S) {
+                const V ax = load<V>(xa + l), ay = load<V>(xa + W + l), az = load<V>(xa + 2 * W + l);
+                const V bx = load<V>(xb + l), by = load<V>(xb + W + l), bz = load<V>(xb + 2 * W + l);
+                const V dx = ax - bx, dy = ay - by, dz = az - bz;
+                const V length = vsqrt(dx * dx + dy * dy + dz * dz);
+                const V scale = length > 0.0 ? kl / length : V{};
                 if (bothFree) {
-                    ba[l] += scale * dx, ba[W + l] += scale * dy, ba[2 * W + l] += scale * dz;
-                    bb[l] -= scale * dx, bb[W + l] -= scale * dy, bb[2 * W + l] -= scale * dz;
+                    store(ba + l, load<V>(ba + l) + scale * dx);
+                    store(ba + W + l, load<V>(ba + W + l) + scale * dy);
+                    store(ba + 2 * W + l, load<V>(ba + 2 * W + l) + scale * dz);
+                    store(bb + l, load<V>(bb + l) - scale * dx);
+                    store(bb + W + l, load<V>(bb + W + l) - scale * dy);
+                    store(bb + 2 * W + l, load<V>(bb + 2 * W + l) - scale * dz);
                 } else {
-                    ba[l] += sp.stiffness * xb[l] + scale * dx;
-                    ba[W + l] += sp.stiffness * xb[W + l] + scale * dy;
-                    ba[2 * W + l] += sp.stiffness * xb[2 * W + l] + scale * dz;
+                    store(ba + l, load<V>(ba + l) + (sp.stiffness * bx + scale * dx));
+                    store(ba + W + l, load<V>(ba + W + l) + (sp.stiffness * by + scale * dy));
+                    store(ba + 2 * W + l, load<V>(ba + 2 * W + l) + (sp.stiffness * bz + scale * dz));
                 }
             }
         }
@@ -297,20 +349,28 @@ private:
             double* CC_RESTRICT fa = f + std::size_t(sp.a) * kRow;
             double* CC_RESTRICT fb = f + std::size_t(sp.b) * kRow;
             double* CC_RESTRICT frame = frames ? frames + i * 5 * W : nullptr;
-            for (int l = 0; l < W; ++l) {
-                const double dx = xa[l] - xb[l], dy = xa[W + l] - xb[W + l], dz = xa[2 * W + l] - xb[2 * W + l];
-                const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-                const double inverse = length > 0.0 ? 1.0 / length : 0.0;
-                const double nx = dx * inverse, ny = dy * inverse, nz = dz * inverse;
-                const double tension = sp.stiffness * (length - sp.restLength);
-                fa[l] -= tension * nx, fa[W + l] -= tension * ny, fa[2 * W + l] -= tension * nz;
-                if (bothFree) fb[l] += tension * nx, fb[W + l] += tension * ny, fb[2 * W + l] += tension * nz;
+            for (int l = 0; l < W; l += S) {
+                const V dx = load<V>(xa + l) - load<V>(xb + l), dy = load<V>(xa + W + l) - load<V>(xb + W + l),
+                        dz = load<V>(xa + 2 * W + l) - load<V>(xb + 2 * W + l);
+                const V length = vsqrt(dx * dx + dy * dy + dz * dz);
+                const V inverse = length > 0.0 ? 1.0 / length : V{};
+                const V nx = dx * inverse, ny = dy * inverse, nz = dz * inverse;
+                const V tension = sp.stiffness * (length - sp.restLength);
+                store(fa + l, load<V>(fa + l) - tension * nx);
+                store(fa + W + l, load<V>(fa + W + l) - tension * ny);
+                store(fa + 2 * W + l, load<V>(fa + 2 * W + l) - tension * nz);
+                if (bothFree) {
+                    store(fb + l, load<V>(fb + l) + tension * nx);
+                    store(fb + W + l, load<V>(fb + W + l) + tension * ny);
+                    store(fb + 2 * W + l, load<V>(fb + 2 * W + l) + tension * nz);
+                }
                 if (frame) {
                     // A collapsed spring has no direction: it resists isotropically.
-                    const double t = length > 0.0 ? std::max(0.0, 1.0 - sp.restLength * inverse) : 1.0;
-                    frame[l] = nx, frame[W + l] = ny, frame[2 * W + l] = nz;
-                    frame[3 * W + l] = sp.stiffness * (1.0 - t);
-                    frame[4 * W + l] = sp.stiffness * t;
+                    const V stretched = 1.0 - sp.restLength * inverse;
+                    const V t = length > 0.0 ? (stretched > 0.0 ? stretched : V{}) : V{} + 1.0;
+                    store(frame + l, nx), store(frame + W + l, ny), store(frame + 2 * W + l, nz);
+                    store(frame + 3 * W + l, sp.stiffness * (1.0 - t));
+                    store(frame + 4 * W + l, sp.stiffness * t);
                 }
             }
         }
@@ -326,30 +386,40 @@ private:
             double* CC_RESTRICT oa = out + std::size_t(sp.a) * kRow;
             double* CC_RESTRICT ob = out + std::size_t(sp.b) * kRow;
             const double* CC_RESTRICT frame = frames + i * 5 * W;
-            for (int l = 0; l < W; ++l) {
-                double dx = ua[l], dy = ua[W + l], dz = ua[2 * W + l];
-                if (bothFree) dx -= ub[l], dy -= ub[W + l], dz -= ub[2 * W + l];
-                const double nx = frame[l], ny = frame[W + l], nz = frame[2 * W + l];
-                const double along = frame[3 * W + l] * (nx * dx + ny * dy + nz * dz);
-                const double across = frame[4 * W + l];
-                const double hx = along * nx + across * dx, hy = along * ny + across * dy, hz = along * nz + across * dz;
-                oa[l] += hx, oa[W + l] += hy, oa[2 * W + l] += hz;
-                if (bothFree) ob[l] -= hx, ob[W + l] -= hy, ob[2 * W + l] -= hz;
+            for (int l = 0; l < W; l += S) {
+                V dx = load<V>(ua + l), dy = load<V>(ua + W + l), dz = load<V>(ua + 2 * W + l);
+                if (bothFree) dx -= load<V>(ub + l), dy -= load<V>(ub + W + l), dz -= load<V>(ub + 2 * W + l);
+                const V nx = load<V>(frame + l), ny = load<V>(frame + W + l), nz = load<V>(frame + 2 * W + l);
+                const V along = load<V>(frame + 3 * W + l) * (nx * dx + ny * dy + nz * dz);
+                const V across = load<V>(frame + 4 * W + l);
+                const V hx = along * nx + across * dx, hy = along * ny + across * dy, hz = along * nz + across * dz;
+                store(oa + l, load<V>(oa + l) + hx);
+                store(oa + W + l, load<V>(oa + W + l) + hy);
+                store(oa + 2 * W + l, load<V>(oa + 2 * W + l) + hz);
+                if (bothFree) {
+                    store(ob + l, load<V>(ob + l) - hx);
+                    store(ob + W + l, load<V>(ob + W + l) - hy);
+                    store(ob + 2 * W + l, load<V>(ob + 2 * W + l) - hz);
+                }
             }
         }
     }
 
     // Per lane: sum over the free nodes of a . b, in node order.
     void dot(const double* CC_RESTRICT a, const double* CC_RESTRICT b, double (&out)[W]) const {
-        for (int l = 0; l < W; ++l) out[l] = 0.0;
+        V sum[W / S];
+        for (int j = 0; j < W / S; ++j) sum[j] = V{};
         for (uint32_t k = 0; k < mLevel.freeNodeCount(); ++k) {
             const std::size_t o = std::size_t(k) * kRow;
-            for (int l = 0; l < W; ++l)
-                out[l] += a[o + l] * b[o + l] + a[o + W + l] * b[o + W + l] + a[o + 2 * W + l] * b[o + 2 * W + l];
+            for (int l = 0; l < W; l += S)
+                sum[l / S] += load<V>(a + o + l) * load<V>(b + o + l) +
+                              load<V>(a + o + W + l) * load<V>(b + o + W + l) +
+                              load<V>(a + o + 2 * W + l) * load<V>(b + o + 2 * W + l);
         }
+        for (int l = 0; l < W; l += S) store(out + l, sum[l / S]);
     }
 
-    // q = (M / h^2 + H) p over the free nodes.
+    // q = (M / h^2 + H) p over the free nodes, H over the springs in the Newton system.
     void systemProduct(const double* p, double* q, const std::vector<double>& mass, double h2) const {
         const uint32_t free = mLevel.freeNodeCount();
         for (uint32_t k = 0; k < free; ++k) {
@@ -358,16 +428,19 @@ private:
             for (int i = 0; i < kRow; ++i) q[o + i] = inertia * p[o + i];
         }
         const double* frames = mW.springFrames.data();
-        std::size_t offset = 0;
-        for (const auto* list : {&mLevel.freeSprings(), &mLevel.freeBendSprings()}) {
-            hessianProduct(*list, frames + offset, p, q, true);
-            offset += list->size() * 5 * W;
-        }
-        for (const auto* list : {&mLevel.attachedSprings(), &mLevel.attachedBendSprings()}) {
-            hessianProduct(*list, frames + offset, p, q, false);
-            offset += list->size() * 5 * W;
+        for (int k = 0; k < mGroupCount; ++k) {
+            const Group& g = mGroups[k];
+            hessianProduct(*g.springs, frames, p, q, g.bothFree);
+            frames += g.springs->size() * 5 * W;
         }
     }
+
+    // The springs of the Newton system: stretch and shear, and bending when the factor has it
+    // (otherwise it is explicit, in the prediction).
+    struct Group {
+        const std::vector<LevelSpring>* springs;
+        bool bothFree;
+    };
 
     // One Newton step from the prediction (in x): (M / h^2 + H) d = f(x), x += d, by `iterations`
     // CG iterations preconditioned with the shared factor, from d = 0. Per lane scalars, so lanes
@@ -375,9 +448,20 @@ private:
     void newtonStep(double* x, const std::vector<double>& mass, double h2) {
         const uint32_t free = mLevel.freeNodeCount();
         const std::size_t size = std::size_t(free) * kRow;
-        const std::size_t springs = mLevel.freeSprings().size() + mLevel.freeBendSprings().size() +
-                                    mLevel.attachedSprings().size() + mLevel.attachedBendSprings().size();
-        for (auto* a : {&mW.residual, &mW.search, &mW.product, &mW.correction}) a->assign(size, 0.0);
+        mGroupCount = 0;
+        std::size_t springs = 0;
+        auto group = [&](const std::vector<LevelSpring>& list, bool bothFree) {
+            mGroups[mGroupCount++] = {&list, bothFree};
+            springs += list.size();
+        };
+        group(mLevel.freeSprings(), true);
+        group(mLevel.attachedSprings(), false);
+        if (mFactor->includesBending()) {
+            group(mLevel.freeBendSprings(), true);
+            group(mLevel.attachedBendSprings(), false);
+        }
+        for (auto* a : {&mW.search, &mW.product}) ensureSize(*a, size);  // written before read
+        for (auto* a : {&mW.residual, &mW.correction}) a->assign(size, 0.0);  // accumulated into
         mW.springFrames.resize(springs * 5 * W);
         double* r = mW.residual.data();
         double* p = mW.search.data();
@@ -385,14 +469,10 @@ private:
         double* d = mW.correction.data();
         double* z = mW.solution.data();
         double* frames = mW.springFrames.data();
-        std::size_t offset = 0;
-        for (const auto* list : {&mLevel.freeSprings(), &mLevel.freeBendSprings()}) {
-            springForces(*list, x, r, frames + offset, true);
-            offset += list->size() * 5 * W;
-        }
-        for (const auto* list : {&mLevel.attachedSprings(), &mLevel.attachedBendSprings()}) {
-            springForces(*list, x, r, frames + offset, false);
-            offset += list->size() * 5 * W;
+        for (int k = 0; k < mGroupCount; ++k) {
+            const Group& g = mGroups[k];
+            springForces(*g.springs, x, r, frames, g.bothFree);
+            frames += g.springs->size() * 5 * W;
         }
         auto precondition = [&] {
             std::copy(r, r + size, z);
@@ -408,9 +488,11 @@ private:
             for (int l = 0; l < W; ++l) alpha[l] = pq[l] > 0.0 && rz[l] > 0.0 ? rz[l] / pq[l] : 0.0;
             for (std::size_t o = 0; o < size; o += kRow)
                 for (int c = 0; c < 3; ++c)
-                    for (int l = 0; l < W; ++l) {
-                        d[o + c * W + l] += alpha[l] * p[o + c * W + l];
-                        r[o + c * W + l] -= alpha[l] * q[o + c * W + l];
+                    for (int l = 0; l < W; l += S) {
+                        const std::size_t i = o + c * W + l;
+                        const V a = load<V>(alpha + l);
+                        store(d + i, load<V>(d + i) + a * load<V>(p + i));
+                        store(r + i, load<V>(r + i) - a * load<V>(q + i));
                     }
             if (it + 1 == mSettings.iterations) break;
             precondition();
@@ -418,13 +500,16 @@ private:
             for (int l = 0; l < W; ++l) beta[l] = rz[l] > 0.0 ? next[l] / rz[l] : 0.0, rz[l] = next[l];
             for (std::size_t o = 0; o < size; o += kRow)
                 for (int c = 0; c < 3; ++c)
-                    for (int l = 0; l < W; ++l) p[o + c * W + l] = z[o + c * W + l] + beta[l] * p[o + c * W + l];
+                    for (int l = 0; l < W; l += S) {
+                        const std::size_t i = o + c * W + l;
+                        store(p + i, load<V>(z + i) + load<V>(beta + l) * load<V>(p + i));
+                    }
         }
         for (std::size_t i = 0; i < size; ++i) x[i] += d[i];
     }
 
     // Provot's strain limit after the step, tethers first (see StrainLimiter); nodes flagged in
-    // mW.fixedNodes do not move.
+    // mW.fixedNodes move less (kPinnedWeight) than the others.
     void limitStrain(int (&outPasses)[W]) {
         const uint8_t* fixed = mW.fixedNodes.data();
         const double limit = mSettings.strainLimit;
@@ -434,10 +519,10 @@ private:
         const auto& tethers = mLevel.tethers();
         double* x = mW.positions.data();
         double* v = mW.velocities.data();
+        const double inverseDt = 1.0 / mDt;
         int lastCorrected[W];
         for (int l = 0; l < W; ++l) lastCorrected[l] = -1;
-        int pass = 0;
-        for (; pass < mSettings.strainLimitPasses; ++pass) {
+        for (int pass = 0; pass < mSettings.strainLimitPasses; ++pass) {
             bool corrected[W] = {};
             for (uint32_t k = 0; k < tethers.size(); ++k) {
                 const uint8_t* pinned = fixed + std::size_t(k) * W;
@@ -451,7 +536,7 @@ private:
                     if (pinned[l] || !(length > maxLength * (1.0 + tolerance))) continue;
                     const double scale = maxLength / length - 1.0;
                     xi[l] += scale * dx, xi[W + l] += scale * dy, xi[2 * W + l] += scale * dz;
-                    vi[l] += scale * dx / mDt, vi[W + l] += scale * dy / mDt, vi[2 * W + l] += scale * dz / mDt;
+                    vi[l] += scale * dx * inverseDt, vi[W + l] += scale * dy * inverseDt, vi[2 * W + l] += scale * dz * inverseDt;
                     corrected[l] = true;
                 }
             }
@@ -465,18 +550,35 @@ private:
                 double* va = v + std::size_t(e.a) * kRow;
                 double* vb = v + std::size_t(e.b) * kRow;
                 const double maxLength = (1.0 + limit) * e.restLength;
-                for (int l = 0; l < W; ++l) {
-                    const double wa = pinnedA[l] ? kPinnedWeight * ma : ma, wb = pinnedB[l] ? kPinnedWeight * mb : mb;
-                    const double dx = xb[l] - xa[l], dy = xb[W + l] - xa[W + l], dz = xb[2 * W + l] - xa[2 * W + l];
-                    const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-                    if (wa + wb == 0.0 || !(length > maxLength + tolerance * e.restLength)) continue;
-                    const double scale = (length - maxLength) / (length * (wa + wb));
-                    const double sx = scale * dx, sy = scale * dy, sz = scale * dz;
-                    xa[l] += wa * sx, xa[W + l] += wa * sy, xa[2 * W + l] += wa * sz;
-                    xb[l] -= wb * sx, xb[W + l] -= wb * sy, xb[2 * W + l] -= wb * sz;
-                    va[l] += wa * sx / mDt, va[W + l] += wa * sy / mDt, va[2 * W + l] += wa * sz / mDt;
-                    vb[l] -= wb * sx / mDt, vb[W + l] -= wb * sy / mDt, vb[2 * W + l] -= wb * sz / mDt;
-                    corrected[l] = true;
+                const double threshold = maxLength + tolerance * e.restLength;
+                for (int l = 0; l < W; l += S) {
+                    const V dx = load<V>(xb + l) - load<V>(xa + l), dy = load<V>(xb + W + l) - load<V>(xa + W + l),
+                            dz = load<V>(xb + 2 * W + l) - load<V>(xa + 2 * W + l);
+                    const V length = vsqrt(dx * dx + dy * dy + dz * dz);
+                    V wa, wb;
+                    for (int j = 0; j < S; ++j) {
+                        if constexpr (S == 1) {
+                            wa = pinnedA[l] ? kPinnedWeight * ma : ma, wb = pinnedB[l] ? kPinnedWeight * mb : mb;
+                        } else {
+                            wa[j] = pinnedA[l + j] ? kPinnedWeight * ma : ma;
+                            wb[j] = pinnedB[l + j] ? kPinnedWeight * mb : mb;
+                        }
+                    }
+                    const auto stretched = length > threshold;
+                    bool any = false;
+                    for (int j = 0; j < S; ++j) any = any || laneSet(stretched, j);
+                    if (!any || ma + mb == 0.0) continue;
+                    const V scale = (length - maxLength) / (length * (wa + wb));
+                    const V sx = scale * dx, sy = scale * dy, sz = scale * dz;
+                    // Lanes within the limit keep their values exactly (no +0 added).
+                    auto update = [&](double* p, const V& delta) { store(p, stretched ? load<V>(p) + delta : load<V>(p)); };
+                    update(xa + l, wa * sx), update(xa + W + l, wa * sy), update(xa + 2 * W + l, wa * sz);
+                    update(xb + l, -(wb * sx)), update(xb + W + l, -(wb * sy)), update(xb + 2 * W + l, -(wb * sz));
+                    update(va + l, wa * sx * inverseDt), update(va + W + l, wa * sy * inverseDt);
+                    update(va + 2 * W + l, wa * sz * inverseDt);
+                    update(vb + l, -(wb * sx * inverseDt)), update(vb + W + l, -(wb * sy * inverseDt));
+                    update(vb + 2 * W + l, -(wb * sz * inverseDt));
+                    for (int j = 0; j < S; ++j) corrected[l + j] = corrected[l + j] || laneSet(stretched, j);
                 }
             }
             bool any = false;
@@ -514,6 +616,8 @@ private:
     SubstepWorkspace& mW;
     double mAcceleration[3][W] = {};
     uint32_t mCorrections[W] = {};
+    Group mGroups[4] = {};
+    int mGroupCount = 0;
 };
 
 } // namespace

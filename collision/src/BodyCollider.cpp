@@ -3,7 +3,9 @@
 #include "QueryInput.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <mutex>
 #include <string>
 
 #include "crowdcloth/collision/Ccd.h"
@@ -37,7 +39,10 @@ struct BodyCollider::Impl {
 
     // Pseudonormals of the current pose (Baerentzen & Aanaes 2005): unit face normals, angle-weighted
     // vertex normals, and per triangle edge the sum of the face normals sharing that edge.
-    std::vector<Vec3> faceNormal, vertexNormal, edgeNormal;
+    std::vector<Vec3> faceNormal, edgeNormal;
+    // Vertex pseudonormals are needed only where a query's closest point is a vertex: computed on
+    // demand from the triangles around it (vertexTriangles[vertexStart[v] .. vertexStart[v + 1])).
+    std::vector<uint32_t> vertexStart, vertexTriangles;
     std::vector<uint8_t> degenerate;
     // Connected parts (triangles sharing vertices): a body is often several closed surfaces that
     // overlap (a thigh into the pelvis), and a point outside the nearest one may be inside another.
@@ -51,6 +56,12 @@ struct BodyCollider::Impl {
     RTCGeometry mesh = nullptr;
     RTCScene swept = nullptr;       // one user primitive per triangle: bounds of its motion
     RTCGeometry sweptGeometry = nullptr;
+    // The swept tree matches (previous, current) only after the first continuous query since the
+    // last update refit it (a body only proximity queries touch never pays for it); queries run
+    // concurrently, so the refit is guarded.
+    mutable std::atomic<bool> sweptCurrent{false};
+    mutable std::mutex sweptMutex;
+    Status refitSwept() const;
     BodyColliderStats stats;
 
     ~Impl() { releaseScenes(); }
@@ -68,6 +79,7 @@ struct BodyCollider::Impl {
     Status refit();
     Status buildSwept();
     Vec3 pseudonormal(uint32_t t, Feature f) const;
+    Vec3 vertexPseudonormal(uint32_t v) const;
 };
 
 namespace {
@@ -112,7 +124,6 @@ Status BodyCollider::Impl::checkPose(Span<const Vec3> positions, const char* wha
 
 void BodyCollider::Impl::computeNormals() {
     const uint32_t nt = uint32_t(triangles.size());
-    std::fill(vertexNormal.begin(), vertexNormal.end(), Vec3::Zero());
     stats.degenerateTriangles = 0;
     for (uint32_t t = 0; t < nt; ++t) {
         const auto& tri = triangles[t];
@@ -128,12 +139,6 @@ void BodyCollider::Impl::computeNormals() {
             continue;
         }
         faceNormal[t] = cross.normalized();
-        for (int k = 0; k < 3; ++k) {
-            // Interior angle at vertex k, between the edges leaving it.
-            const Vec3 u = e[k], w = -e[(k + 2) % 3];
-            const double angle = std::atan2(u.cross(w).norm(), u.dot(w));
-            vertexNormal[tri[k]] += angle * faceNormal[t];
-        }
     }
     for (std::size_t g = 0; g + 1 < edgeStart.size(); ++g) {
         Vec3 sum = Vec3::Zero();
@@ -142,12 +147,27 @@ void BodyCollider::Impl::computeNormals() {
     }
 }
 
+Vec3 BodyCollider::Impl::vertexPseudonormal(uint32_t v) const {
+    // Angle-weighted sum of the face normals around v (Baerentzen & Aanaes 2005), in a fixed order.
+    Vec3 sum = Vec3::Zero();
+    for (uint32_t k = vertexStart[v]; k < vertexStart[v + 1]; ++k) {
+        const uint32_t t = vertexTriangles[k];
+        if (degenerate[t]) continue;
+        const auto& tri = triangles[t];
+        const int corner = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+        // Interior angle at the corner, between the edges leaving it.
+        const Vec3 u = current[tri[(corner + 1) % 3]] - current[v], w = current[tri[(corner + 2) % 3]] - current[v];
+        sum += std::atan2(u.cross(w).norm(), u.dot(w)) * faceNormal[t];
+    }
+    return sum;
+}
+
 Vec3 BodyCollider::Impl::pseudonormal(uint32_t t, Feature f) const {
     switch (f) {
     case Feature::Face: return faceNormal[t];
-    case Feature::Vertex0: return vertexNormal[triangles[t][0]];
-    case Feature::Vertex1: return vertexNormal[triangles[t][1]];
-    case Feature::Vertex2: return vertexNormal[triangles[t][2]];
+    case Feature::Vertex0: return vertexPseudonormal(triangles[t][0]);
+    case Feature::Vertex1: return vertexPseudonormal(triangles[t][1]);
+    case Feature::Vertex2: return vertexPseudonormal(triangles[t][2]);
     case Feature::Edge0: return edgeNormal[3 * t + 0];
     case Feature::Edge1: return edgeNormal[3 * t + 1];
     case Feature::Edge2: return edgeNormal[3 * t + 2];
@@ -202,6 +222,7 @@ Status BodyCollider::Impl::buildScenes() {
     rtcCommitGeometry(sweptGeometry);
     rtcAttachGeometryByID(swept, sweptGeometry, 0);
     rtcCommitScene(swept);
+    sweptCurrent = true;
 
     buildPose = current;
     Eigen::AlignedBox3d box;
@@ -224,9 +245,8 @@ Status BodyCollider::Impl::refit() {
     rtcUpdateGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcCommitGeometry(mesh);
     rtcCommitScene(scene);
-    // The swept boxes follow the same motion: their tree is refit too (rebuilt with the mesh's).
-    rtcCommitGeometry(sweptGeometry);
-    rtcCommitScene(swept);
+    // The swept boxes follow the same motion; their tree is refit when a continuous query asks.
+    sweptCurrent = false;
     ++stats.refits;
     return device->takeError();
 }
@@ -261,7 +281,16 @@ Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& devi
     const uint32_t nt = uint32_t(triangles.size());
     impl->faceNormal.assign(nt, Vec3::Zero());
     impl->edgeNormal.assign(3 * std::size_t(nt), Vec3::Zero());
-    impl->vertexNormal.assign(positions.size(), Vec3::Zero());
+    impl->vertexStart.assign(positions.size() + 1, 0);
+    for (const auto& tri : triangles)
+        for (uint32_t v : tri) ++impl->vertexStart[v + 1];
+    for (std::size_t v = 0; v < positions.size(); ++v) impl->vertexStart[v + 1] += impl->vertexStart[v];
+    impl->vertexTriangles.resize(impl->vertexStart.back());
+    {
+        std::vector<uint32_t> fill(impl->vertexStart.begin(), impl->vertexStart.end() - 1);
+        for (uint32_t t = 0; t < nt; ++t)
+            for (uint32_t v : triangles[t]) impl->vertexTriangles[fill[v]++] = t;
+    }
     impl->degenerate.assign(nt, 0);
     std::vector<std::pair<uint64_t, uint32_t>> keyed;
     keyed.reserve(3 * std::size_t(nt));
@@ -313,6 +342,17 @@ Status BodyCollider::update(Span<const Vec3> positions, double dt) {
     for (std::size_t i = 0; i < m.current.size(); ++i) m.velocity[i] = (m.current[i] - m.previous[i]) / dt;
     m.computeNormals();
     return m.refit();
+}
+
+Status BodyCollider::Impl::refitSwept() const {
+    if (sweptCurrent.load(std::memory_order_acquire)) return Status::ok();
+    std::lock_guard<std::mutex> lock(sweptMutex);
+    if (sweptCurrent.load(std::memory_order_relaxed)) return Status::ok();
+    detail::ScopedFlushDenormals ftz;
+    rtcCommitGeometry(sweptGeometry);
+    rtcCommitScene(swept);
+    sweptCurrent.store(true, std::memory_order_release);
+    return device->takeError();
 }
 
 Status BodyCollider::reset(Span<const Vec3> positions) {
@@ -522,6 +562,7 @@ Status BodyCollider::queryContinuous(Span<const Vec3> start, Span<const Vec3> en
     outContacts.clear();
     if (Status s = detail::checkContinuousQuery(start, end, query, "BodyCollider"); !s) return s;
     const Impl& body = *mImpl;
+    if (Status s = body.refitSwept(); !s) return s;
     // The swept test reports first contact within a quarter of the thickness: a vertex resting at
     // the thickness is left to the proximity contact, one about to cross is caught before it does.
     CcdSettings ccd;

@@ -96,27 +96,53 @@ Status CapsuleCollider::queryProximity(Span<const Vec3> points, const ContactQue
     outContacts.clear();
     if (Status s = query.validate(); !s) return s;
     if (Status s = detail::checkPoints(points, "CapsuleCollider::queryProximity"); !s) return s;
+    if (points.empty()) return Status::ok();
+    // Only capsules whose reach overlaps the points' box can touch any of them (a cape never
+    // reaches the shins).
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : points) box.extend(p);
+    uint32_t near[64];
+    Vec3 centre[64];
+    double bound2[64];  // squared radius of the sphere around the capsule within which a point can be in reach
+    uint32_t nearCount = 0;
+    for (uint32_t k = 0; k < mCurrent.size(); ++k) {
+        const Capsule& c = mCurrent[k];
+        const double grow = c.radius + query.reach();
+        Eigen::AlignedBox3d reach(c.a.cwiseMin(c.b) - Vec3::Constant(grow), c.a.cwiseMax(c.b) + Vec3::Constant(grow));
+        if (!reach.intersects(box)) continue;
+        if (nearCount == 64) {  // more capsules than the list holds: test them all
+            nearCount = UINT32_MAX;
+            break;
+        }
+        centre[nearCount] = 0.5 * (c.a + c.b);
+        const double r = 0.5 * (c.b - c.a).norm() + grow;
+        bound2[nearCount] = r * r * (1.0 + 1e-12);
+        near[nearCount++] = k;
+    }
+    // One contact per capsule within reach: overlapping capsules are parts of one body, and a point
+    // near two of them is bounded by both (see Contact::part).
     for (uint32_t i = 0; i < points.size(); ++i) {
-        Contact best;
-        best.vertex = UINT32_MAX;
-        for (uint32_t k = 0; k < mCurrent.size(); ++k) {
+        const uint32_t count = nearCount == UINT32_MAX ? uint32_t(mCurrent.size()) : nearCount;
+        for (uint32_t n = 0; n < count; ++n) {
+            const uint32_t k = nearCount == UINT32_MAX ? n : near[n];
+            if (nearCount != UINT32_MAX && (points[i] - centre[n]).squaredNorm() > bound2[n]) continue;
             const Closest c = closestOnCapsule(points[i], mCurrent[k]);
             if (c.gap > query.reach()) continue;
-            const double depth = query.thickness - c.gap;
-            if (best.vertex != UINT32_MAX && depth <= best.depth) continue;
             const Capsule& now = mCurrent[k];
             const Capsule& before = mPrevious[k];
-            best.vertex = i;
-            best.primitive = k;
-            best.normal = c.normal;
-            best.point = now.a + c.s * (now.b - now.a) + now.radius * c.normal;
+            Contact contact;
+            contact.vertex = i;
+            contact.primitive = k;
+            contact.part = k;
+            contact.normal = c.normal;
+            contact.point = now.a + c.s * (now.b - now.a) + now.radius * c.normal;
             const Vec3 was = before.a + c.s * (before.b - before.a) + before.radius * c.normal;
-            best.surfaceVelocity = (best.point - was) / mDt;
-            best.depth = depth;
-            best.time = 1.0;
-            best.source = ContactSource::Proximity;
+            contact.surfaceVelocity = (contact.point - was) / mDt;
+            contact.depth = query.thickness - c.gap;
+            contact.time = 1.0;
+            contact.source = ContactSource::Proximity;
+            outContacts.push_back(contact);
         }
-        if (best.vertex != UINT32_MAX) outContacts.push_back(best);
     }
     return Status::ok();
 }
@@ -155,6 +181,7 @@ Status CapsuleCollider::queryContinuous(Span<const Vec3> start, Span<const Vec3>
             if (!hit || (best.vertex != UINT32_MAX && t >= best.time)) continue;
             best.vertex = i;
             best.primitive = k;
+            best.part = k;
             best.time = t;
             best.normal = c.normal;
             best.point = c1.a + c.s * (c1.b - c1.a) + c1.radius * c.normal;

@@ -153,6 +153,7 @@ collision::BodyContactSettings GarmentInstance::contactSettings() const {
     collision::BodyContactSettings settings;
     settings.query.thickness = mAsset->desc.thickness;
     settings.query.margin = mAsset->desc.thickness;
+    settings.query.parallel.maxThreads = 1;  // garments already run in parallel
     settings.continuous = context.continuous;
     return settings;
 }
@@ -230,9 +231,10 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
                                               mMoved);
             !s)
             return s;
-        if (corrected > 0) {
+        if (corrected > 0 && !context.proxies) {
             // A push out of one part of the body can end inside another (out of the pelvis, into
             // the thigh it overlaps): one more proximity pass, which knows which part a point is in.
+            // (Capsules are convex: the first pass had every capsule in reach.)
             settings.continuous = false;
             settings.query.margin = mAsset->desc.thickness;
             if (Status s = mContactStage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
@@ -240,21 +242,20 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
                                                   mMoved);
                 !s)
                 return s;
+        }
+        if (corrected > 0 && strainSettings.strainLimit > 0.0) {
             // The strain limit again, with the pushed vertices held where the body put them: their
             // neighbours follow instead of a lone vertex standing out of the cloth.
-            if (strainSettings.strainLimit > 0.0) {
-                cloth::SubstepSettings limit = strainSettings;
-                limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
-                if (Status s = cloth::limitStrain(*level.cloth, context.dt, limit, lane(), mMoved, mLimitWork); !s)
-                    return s;
-                // The body has the last word, but only against entering it: a vertex the limit pulled
-                // inside goes back to the surface, not to the full thickness, so the cloth
-                // stretches as little as the body forces (a limb driving the hem through a stride).
-                cloth::ContactResponse surface = response;
-                surface.thickness = kSurfaceFraction * response.thickness;
-                if (Status s = cloth::resolveContacts(mContacts, surface, *level.cloth, mPositions, mVelocities); !s)
-                    return s;
-            }
+            cloth::SubstepSettings limit = strainSettings;
+            limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
+            if (Status s = cloth::limitStrain(*level.cloth, context.dt, limit, lane(), mMoved, mLimitWork); !s) return s;
+            // The body has the last word, but only against entering it: a vertex the limit pulled
+            // inside goes back to the surface, not to the full thickness, so the cloth stretches
+            // as little as the body forces (a limb driving the hem through a stride).
+            cloth::ContactResponse surface = response;
+            surface.thickness = kSurfaceFraction * response.thickness;
+            if (Status s = cloth::resolveContacts(mContacts, surface, *level.cloth, mPositions, mVelocities); !s)
+                return s;
         }
         weldCopies(level.active, mPositions, mVelocities);
     }

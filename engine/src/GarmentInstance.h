@@ -21,6 +21,7 @@ struct GarmentUpdateContext {
     double dt = 0.0;                                ///< [s] time since the garment's last update
     const collision::Collider* collider = nullptr;  ///< the body at the end of the step; null = none
     bool continuous = false;                        ///< swept tests against the body (fast limbs)
+    bool proxies = false;                           ///< the collider is capsules, not the mesh
     bool selfCollision = false;
     Vec3 acceleration = Vec3(0.0, -9.81, 0.0);      ///< [m/s^2] gravity in the character's frame
 };

@@ -26,6 +26,8 @@ Status WorldDesc::validate() const {
     if (substeps < 1 || substeps > 64) return Status::invalidArgument("WorldDesc.substeps must be in [1, 64]");
     if (solverIterations < 1 || solverIterations > 100)
         return Status::invalidArgument("WorldDesc.solverIterations must be in [1, 100]");
+    if (batchSize < 1 || batchSize > uint32_t(cloth::kMaxSubstepLanes))
+        return Status::invalidArgument("WorldDesc.batchSize must be in [1, " + std::to_string(cloth::kMaxSubstepLanes) + "]");
     if (!(std::isfinite(strainLimit) && strainLimit >= 0.0 && strainLimit <= 10.0))
         return Status::invalidArgument("WorldDesc.strainLimit must be in [0, 10]");
     return Status::ok();
@@ -301,6 +303,7 @@ void WorldImpl::prepareGarment(const FrameItem& item) {
     const lod::GarmentSchedule& schedule = g.schedule;
     g.context.collider = nullptr;
     g.context.continuous = schedule.collision == lod::CollisionDetail::MeshContinuous;
+    g.context.proxies = schedule.collision == lod::CollisionDetail::Proxies && !item.character->body->hostSkinned;
     g.context.selfCollision = schedule.selfCollision && mDesc.selfCollision;
     Status status;
     if (schedule.collision != lod::CollisionDetail::None) {
@@ -437,7 +440,7 @@ Status WorldImpl::step(double dt) {
             k = end;
             continue;
         }
-        for (; k < end; k += cloth::kMaxSubstepLanes) {
+        for (; k < end; k += mDesc.batchSize) {
             if (mBatchCount == mBatches.size()) mBatches.emplace_back();
             Batch& batch = mBatches[mBatchCount++];
             batch.level = &g.cookedLevel();
@@ -451,7 +454,7 @@ Status WorldImpl::step(double dt) {
             batch.settings.contactThickness = g.asset().desc.thickness;
             batch.settings.friction = cloth::Friction{g.asset().desc.friction, 0.8 * g.asset().desc.friction};
             batch.items.clear();
-            for (std::size_t j = k; j < std::min(end, k + cloth::kMaxSubstepLanes); ++j) batch.items.push_back(keys[j].item);
+            for (std::size_t j = k; j < std::min<std::size_t>(end, k + mDesc.batchSize); ++j) batch.items.push_back(keys[j].item);
         }
     }
     fs.batches = uint32_t(mBatchCount);

@@ -12,6 +12,8 @@ struct RunResult {
     std::vector<double> frameMs;
     std::vector<double> perLevelMean;
     double meanUpdated = 0.0, meanAsleep = 0.0, meanVisible = 0.0, maxErrorPx = 0.0;
+    double vertexUpdates = 0.0;  ///< mean simulated vertices updated per frame
+    double withinTolerance = 0.0;  ///< fraction of visible garment-frames predicted within the tolerance
     uint32_t failed = 0;
     bool ok = true;
 };
@@ -29,6 +31,7 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
     }
     result.perLevelMean.assign(16, 0.0);
     int measured = 0;
+    double visibleFrames = 0.0, withinFrames = 0.0;
     for (int f = 1; f <= warmup + frames; ++f) {
         (void)plaza.value().update(*world, f / 60.0, 1920, 1080);
         if (cc::Status s = world->step(1.0 / 60.0); !s) {
@@ -49,6 +52,11 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
             const cc::GarmentStats gs = world->garmentStats(g).value();
             if (gs.updateInterval > 0 && gs.screenRadiusPx > 0.0)
                 result.maxErrorPx = std::max(result.maxErrorPx, gs.predictedErrorPx);
+            if (gs.updated) result.vertexUpdates += gs.vertexCount;
+            if (gs.screenRadiusPx > 0.0 && gs.updateInterval > 0) {
+                ++visibleFrames;
+                if (gs.predictedErrorPx <= desc.pixelTolerance) ++withinFrames;
+            }
         }
         if (fs.totalMs > stopAboveMs) break;
     }
@@ -56,6 +64,8 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
     result.meanUpdated /= std::max(measured, 1);
     result.meanAsleep /= std::max(measured, 1);
     result.meanVisible /= std::max(measured, 1);
+    result.vertexUpdates /= std::max(measured, 1);
+    result.withinTolerance = visibleFrames > 0.0 ? withinFrames / visibleFrames : 1.0;
     return result;
 }
 
@@ -90,6 +100,8 @@ int runScaling(double budgetMs, int threadCount) {
                         full ? "full" : "lod", median, p99, r.meanUpdated, r.meanAsleep, r.maxErrorPx,
                         r.perLevelMean[0], r.perLevelMean[1], r.perLevelMean[2], r.perLevelMean[3],
                         r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
+            std::printf("BAR crowd chars=%d median_ms=%.2f p99_ms=%.2f vertex_updates_per_frame=%.0f within_1px=%.3f mode=%s\n",
+                        n, median, p99, r.vertexUpdates, r.withinTolerance, full ? "full" : "lod");
             std::fflush(stdout);
             if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
             if (full && p99 > 16.7) fullStillFits = false;

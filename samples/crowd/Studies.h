@@ -50,5 +50,7 @@ inline void lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, do
 int runScaling(double budgetMs, int threads);
 /// A cape on a walking mannequin at each uniform level against the finest one.
 int runTradeoff();
+/// 256 capes at level 3 on walking mannequins stepped one by one and in batches (BAR batch).
+int runBatchBench();
 
 } // namespace crowd

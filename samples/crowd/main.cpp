@@ -9,6 +9,7 @@
 //                        resolution, and the 1 -> 2 thread speed-up
 //   cc_crowd --tradeoff  a cape on a walking mannequin at each uniform level against the finest:
 //                        vertices, ms per step, RMS and max distance
+//   cc_crowd --batch     256 capes at level 3 stepped one by one and in batches (BAR batch)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +42,7 @@ struct Options {
     int width = 960, height = 540;
     bool scaling = false;
     bool tradeoff = false;
+    bool batch = false;
 };
 
 bool parse(int argc, char** argv, Options& o) {
@@ -64,6 +66,7 @@ bool parse(int argc, char** argv, Options& o) {
         else if (a == "--height") o.height = std::atoi(next("--height"));
         else if (a == "--scaling") o.scaling = true;
         else if (a == "--tradeoff") o.tradeoff = true;
+        else if (a == "--batch") o.batch = true;
         else {
             std::fprintf(stderr, "unknown option '%s' (see the comment at the top of samples/crowd/main.cpp)\n", a.c_str());
             return false;
@@ -115,6 +118,7 @@ int main(int argc, char** argv) {
     if (!parse(argc, argv, o)) return 2;
     if (o.scaling) return crowd::runScaling(o.budgetMs, o.threads);
     if (o.tradeoff) return crowd::runTradeoff();
+    if (o.batch) return crowd::runBatchBench();
 
     cc::WorldDesc desc;
     desc.maxThreads = uint32_t(std::max(o.threads, 0));

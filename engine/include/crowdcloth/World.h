@@ -38,6 +38,9 @@ struct WorldDesc {
                                       ///< small steps; accuracy grows with them); [1, 64]
     uint32_t solverIterations = 4;    ///< [-] conjugate-gradient iterations per substep on the
                                       ///< shared factor; [1, 100]
+    uint32_t batchSize = 4;           ///< [-] garments of one asset and level stepped together per
+                                      ///< solver call (SIMD across them; results never depend on
+                                      ///< it); [1, 8]
     double strainLimit = 0.1;         ///< [-] Provot limit on edge strain after each update (with tethers
                                       ///< to the attachments); 0 = off; [0, 10]
     bool selfCollision = false;       ///< let the scheduler turn garment self-collision on for the largest

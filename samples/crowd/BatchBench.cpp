@@ -1,0 +1,96 @@
+#include <cstdio>
+#include <vector>
+
+#include "Studies.h"
+
+namespace crowd {
+namespace {
+
+struct BatchRun {
+    double msPerFrame = 0.0;      ///< [ms] wall time of the simulate phase, one thread
+    double vertexSteps = 0.0;     ///< simulated vertices updated per frame
+    uint32_t batches = 0, failed = 0;
+    uint64_t hash = 0;
+    bool ok = true;
+};
+
+/// `count` walking mannequins on a grid, each in a cape forced to `level`, seen from far enough
+/// that the scheduler collides them with their capsules; one thread.
+BatchRun run(int count, int level, uint32_t batchSize, int frames) {
+    BatchRun r;
+    cc::WorldDesc desc;
+    desc.maxThreads = 1;
+    desc.fixedCostModel = true;
+    desc.batchSize = batchSize;
+    desc.frameBudgetMs = 1e9;
+    desc.maxUpdateInterval = 1;
+    WorldPtr world(cc::World::create(desc).value());
+    cc::ClothAssetDesc cape;
+    cape.width = 0.6;
+    const cc::AssetId asset = world->addClothAsset(cape).value();
+    const cc::BodyId body = world->addMannequinBody({}).value();
+    std::vector<cc::CharacterId> characters;
+    std::vector<cc::GarmentId> garments;
+    const int side = 16;
+    for (int c = 0; c < count; ++c) {
+        cc::CharacterDesc cd;
+        cd.body = body;
+        cd.clipTime = 0.037 * c;  // out of step, so no two garments move alike
+        characters.push_back(world->addCharacter(cd).value());
+        cc::GarmentDesc gd;
+        gd.forceLevel = level;
+        garments.push_back(world->addGarment(asset, characters.back(), gd).value());
+    }
+    double totalMs = 0.0, vertices = 0.0;
+    const int warmup = 30;
+    for (int f = 1; f <= warmup + frames; ++f) {
+        for (int c = 0; c < count; ++c) {
+            const double position[3] = {1.5 * (c % side), 0.0, 1.5 * (c / side) + 1.35 * f / 60.0};
+            (void)world->setCharacterRoot(characters[c], position, 0.0);
+        }
+        cc::CameraDesc camera;
+        lookAt(Eigen::Vector3d(12.0, 60.0, -40.0), Eigen::Vector3d(12.0, 0.0, 12.0), 16.0 / 9.0, camera.viewProjection);
+        (void)world->setCameras(&camera, 1);
+        if (!world->step(1.0 / 60.0).isOk()) {
+            r.ok = false;
+            return r;
+        }
+        const cc::FrameStats& fs = world->frameStats();
+        r.failed += fs.failed;
+        if (f <= warmup) continue;
+        totalMs += fs.simulateMs;
+        for (cc::GarmentId g : garments) {
+            const cc::GarmentStats s = world->garmentStats(g).value();
+            if (s.updated) vertices += s.vertexCount;
+        }
+        r.batches = fs.batches;
+    }
+    r.msPerFrame = totalMs / frames;
+    r.vertexSteps = vertices / frames;
+    r.hash = world->stateHash();
+    return r;
+}
+
+} // namespace
+
+int runBatchBench() {
+    const int count = 256, level = 3, frames = 120;
+    std::printf("# %d capes at level %d on walking mannequins (capsule contacts), one thread, %d frames at 60 Hz\n",
+                count, level, frames);
+    std::printf("%-10s %10s %14s %22s %10s\n", "batch", "batches", "ms/frame", "vertex-steps/s/core", "failed");
+    BatchRun alone, batched;
+    for (uint32_t size : {1u, 4u, 8u}) {
+        const BatchRun r = run(count, level, size, frames);
+        if (!r.ok) return 1;
+        std::printf("%-10u %10u %14.2f %22.0f %10u\n", size, r.batches, r.msPerFrame, 1e3 * r.vertexSteps / r.msPerFrame,
+                    r.failed);
+        if (size == 1) alone = r;
+        if (size == 4) batched = r;
+        if (r.hash != alone.hash) std::printf("  state hash differs from the unbatched run!\n");
+    }
+    std::printf("BAR batch vertex_steps_per_s_per_core=%.0f alone=%.0f\n", 1e3 * batched.vertexSteps / batched.msPerFrame,
+                1e3 * alone.vertexSteps / alone.msPerFrame);
+    return 0;
+}
+
+} // namespace crowd
