@@ -154,7 +154,7 @@ Status ImplicitEulerIntegrator::newton(double h, const ClothState& state, StepSt
     double scale = 0.0;
     double phi = incrementalPotential(h, state, mDv, scale);
     double residual2 = newtonResidual(h, state, mDv);
-    mNewton = NewtonStats{1, 0.0, false};
+    mNewton = NewtonStats{1, 0.0, 0, false};
     for (;;) {
         mNewton.relativeResidual = reference2 > 0.0 ? std::sqrt(residual2 / reference2) : 0.0;
         if (residual2 <= tolerance2) {
@@ -191,6 +191,7 @@ Status ImplicitEulerIntegrator::newton(double h, const ClothState& state, StepSt
         bool accepted = false;
         double alpha = 1.0;
         for (int t = 0; t < kMaxBacktracks && !accepted; ++t, alpha *= 0.5) {
+            mNewton.backtracks += t > 0;
             for (uint32_t i = 0; i < n; ++i) mTrialDv[i] = mDv[i] + alpha * mDelta[i];
             double trialScale = 0.0;
             const double trial = incrementalPotential(h, state, mTrialDv, trialScale);
@@ -279,7 +280,7 @@ Status ImplicitEulerIntegrator::solveOnce(double h, double fraction1, const Cons
     } else {
         // The constraint impulse h f_c = A dv - b on the constrained directions, for friction and
         // the energy check.
-        mNewton = NewtonStats{1, 0.0, true};
+        mNewton = NewtonStats{1, 0.0, 0, true};
         mSystem.multiply(mDv, mScratch, par);
         parallelFor(n, par, [&](int64_t b, int64_t e) {
             for (int64_t i = b; i < e; ++i) mImpulse[i] = mScratch[i] - mRhs[i];

@@ -20,6 +20,7 @@ enum class LinearSolverKind {
 struct NewtonStats {
     int iterations = 0;             ///< [-] linear solves of the last (sub)step, >= 1
     double relativeResidual = 0.0;  ///< [-] |S r(dv)| / |S r(-v0)| at the end; 0 when not measured
+    int backtracks = 0;             ///< [-] halvings of the line search
     bool converged = true;          ///< false if newtonIterations ran out above newtonTolerance or
                                     ///< the line search found no decrease
 };
