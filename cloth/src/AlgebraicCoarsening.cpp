@@ -12,10 +12,12 @@ constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 // Appends one prolongation row from (source, weight) terms, merging equal sources (in ascending
 // order, so the row is the same whatever order the terms came in) and dropping zero weights.
 void appendRow(std::vector<SparseInterpolation::Term>& terms, SparseInterpolation& out) {
-    std::sort(terms.begin(), terms.end(), [](const auto& x, const auto& y) { return x.source < y.source; });
+    std::sort(terms.begin(), terms.end(),
+              [](const auto& x, const auto& y) { return x.source < y.source; });
     for (std::size_t k = 0; k < terms.size();) {
         SparseInterpolation::Term merged = terms[k++];
-        while (k < terms.size() && terms[k].source == merged.source) merged.weight += terms[k++].weight;
+        while (k < terms.size() && terms[k].source == merged.source)
+            merged.weight += terms[k++].weight;
         if (merged.weight != 0.0) out.terms.push_back(merged);
     }
     out.rowStart.push_back(static_cast<uint32_t>(out.terms.size()));
@@ -108,7 +110,8 @@ SparseInterpolation smoothedAggregationProlongation(const LevelMatrix& a, const 
     uint32_t count = 0;
     for (uint32_t i = 0; i < n; ++i) {
         bool free = aggregate[i] == kNone;
-        for (uint32_t k = g.start[i]; free && k < g.start[i + 1]; ++k) free = aggregate[g.neighbours[k]] == kNone;
+        for (uint32_t k = g.start[i]; free && k < g.start[i + 1]; ++k)
+            free = aggregate[g.neighbours[k]] == kNone;
         if (!free) continue;
         aggregate[i] = count;
         for (uint32_t k = g.start[i]; k < g.start[i + 1]; ++k) aggregate[g.neighbours[k]] = count;

@@ -39,6 +39,7 @@ SparseInterpolation compose(const SparseInterpolation& p1, const SparseInterpola
 
 /// Smoothed aggregation with a piecewise-constant tentative prolongation, smoothed by one damped
 /// Jacobi step of the strong part of trace(A_ij) / 3.
-SparseInterpolation smoothedAggregationProlongation(const LevelMatrix& a, const StrengthGraph& graph);
+SparseInterpolation smoothedAggregationProlongation(const LevelMatrix& a,
+                                                    const StrengthGraph& graph);
 
 } // namespace cc::cloth::detail

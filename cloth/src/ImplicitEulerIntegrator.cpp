@@ -5,7 +5,8 @@
 
 namespace cc::cloth {
 
-ImplicitEulerIntegrator::ImplicitEulerIntegrator(ForceModel& model, const IntegratorSettings& common,
+ImplicitEulerIntegrator::ImplicitEulerIntegrator(ForceModel& model,
+                                                 const IntegratorSettings& common,
                                                  const Settings& settings)
     : mModel(model), mCommon(common), mSettings(settings), mMultigrid(settings.multigrid) {
     std::vector<std::pair<uint32_t, uint32_t>> couplings;
@@ -77,14 +78,18 @@ double ImplicitEulerIntegrator::createdEnergy(double h, const ClothState& before
     return std::isfinite(created) ? created : INFINITY;
 }
 
-Status ImplicitEulerIntegrator::solveLinear(const std::vector<Vec3>& rhs, const std::vector<Vec3>& fixed,
-                                            std::vector<Vec3>& dv, StepStats& stats) {
+Status ImplicitEulerIntegrator::solveLinear(const std::vector<Vec3>& rhs,
+                                            const std::vector<Vec3>& fixed, std::vector<Vec3>& dv,
+                                            StepStats& stats) {
     const ParallelSettings& par = mCommon.parallel;
-    if (mSettings.solver == LinearSolverKind::Cholmod) return mCholmod.solve(mSystem, mFilters, rhs, fixed, dv);
+    if (mSettings.solver == LinearSolverKind::Cholmod)
+        return mCholmod.solve(mSystem, mFilters, rhs, fixed, dv);
     PcgResult r;
     if (mSettings.solver == LinearSolverKind::Pcg) {
         r = solveFilteredPcg(mSystem, mFilters, rhs, fixed, dv, mSettings.pcg, par, mPcg);
-    } else if (Status s = mMultigrid.solve(mSystem, mFilters, rhs, fixed, dv, mSettings.pcg, par, r); !s) {
+    } else if (Status s =
+                   mMultigrid.solve(mSystem, mFilters, rhs, fixed, dv, mSettings.pcg, par, r);
+               !s) {
         return s;
     }
     stats.iterations += r.iterations;
@@ -93,7 +98,8 @@ Status ImplicitEulerIntegrator::solveLinear(const std::vector<Vec3>& rhs, const 
     return Status::ok();
 }
 
-double ImplicitEulerIntegrator::incrementalPotential(double h, const ClothState& state, const std::vector<Vec3>& dv,
+double ImplicitEulerIntegrator::incrementalPotential(double h, const ClothState& state,
+                                                     const std::vector<Vec3>& dv,
                                                      double& outScale) {
     const uint32_t n = state.vertexCount();
     for (uint32_t i = 0; i < n; ++i) {
@@ -113,7 +119,8 @@ double ImplicitEulerIntegrator::incrementalPotential(double h, const ClothState&
     return elastic + inertia + gravity + damping;
 }
 
-double ImplicitEulerIntegrator::newtonResidual(double h, const ClothState& state, const std::vector<Vec3>& dv) {
+double ImplicitEulerIntegrator::newtonResidual(double h, const ClothState& state,
+                                               const std::vector<Vec3>& dv) {
     const uint32_t n = state.vertexCount();
     const ParallelSettings& par = mCommon.parallel;
     for (uint32_t i = 0; i < n; ++i) {
@@ -132,7 +139,8 @@ double ImplicitEulerIntegrator::newtonResidual(double h, const ClothState& state
     double residual2 = 0.0;
     for (uint32_t i = 0; i < n; ++i) {
         const double m = state.masses[i];
-        mResidual[i] = h * (mForces[i] + m * mCommon.gravity - mCommon.damping * mScratch[i]) - m * dv[i];
+        mResidual[i] =
+            h * (mForces[i] + m * mCommon.gravity - mCommon.damping * mScratch[i]) - m * dv[i];
         mImpulse[i] = -mResidual[i];
         residual2 += mFilters[i].project(mResidual[i]).squaredNorm();
     }
@@ -142,13 +150,16 @@ double ImplicitEulerIntegrator::newtonResidual(double h, const ClothState& state
 Status ImplicitEulerIntegrator::newton(double h, const ClothState& state, StepStats& stats) {
     const uint32_t n = state.vertexCount();
     const ParallelSettings& par = mCommon.parallel;
-    for (auto* vec : {&mResidual, &mDelta, &mZero, &mTrialDv, &mTrialX, &mVelocity1}) vec->assign(n, Vec3::Zero());
+    for (auto* vec : {&mResidual, &mDelta, &mZero, &mTrialDv, &mTrialX, &mVelocity1})
+        vec->assign(n, Vec3::Zero());
 
     // Reference: the residual of x1 = x0 (dv = -v0), with mForces still f(x0).
     double reference2 = 0.0;
     for (uint32_t i = 0; i < n; ++i) {
         const double m = state.masses[i];
-        reference2 += mFilters[i].project(h * (mForces[i] + m * mCommon.gravity) + m * state.velocities[i]).squaredNorm();
+        reference2 += mFilters[i]
+                          .project(h * (mForces[i] + m * mCommon.gravity) + m * state.velocities[i])
+                          .squaredNorm();
     }
     const double tolerance2 = mSettings.newtonTolerance * mSettings.newtonTolerance * reference2;
     double scale = 0.0;
@@ -168,9 +179,11 @@ Status ImplicitEulerIntegrator::newton(double h, const ClothState& state, StepSt
         parallelFor(n, par, [&](int64_t b, int64_t e) {
             for (int64_t i = b; i < e; ++i) {
                 for (uint32_t k = mSystem.rowStart()[i]; k < mSystem.rowStart()[i + 1]; ++k) {
-                    mSystem.block(k) = h * h * mSystem.block(k) + h * mCommon.damping * mStiffness0.block(k);
+                    mSystem.block(k) =
+                        h * h * mSystem.block(k) + h * mCommon.damping * mStiffness0.block(k);
                 }
-                mSystem.block(mSystem.diagonalSlot(uint32_t(i))).diagonal().array() += state.masses[i];
+                mSystem.block(mSystem.diagonalSlot(uint32_t(i))).diagonal().array() +=
+                    state.masses[i];
             }
         });
         std::fill(mDelta.begin(), mDelta.end(), Vec3::Zero());
@@ -251,11 +264,13 @@ Status ImplicitEulerIntegrator::solveOnce(double h, double fraction1, const Cons
     const double scale = h * damping;
     if (mSettings.newtonIterations > 1) {
         // Newton's damping term needs K0 after A has overwritten it.
-        if (mStiffness0.rowStart() != mSystem.rowStart() || mStiffness0.columns() != mSystem.columns()) {
+        if (mStiffness0.rowStart() != mSystem.rowStart() ||
+            mStiffness0.columns() != mSystem.columns()) {
             mStiffness0 = mSystem;
         }
         parallelFor(int64_t(mSystem.blockCount()), par, [&](int64_t b, int64_t e) {
-            for (int64_t k = b; k < e; ++k) mStiffness0.block(uint32_t(k)) = mSystem.block(uint32_t(k));
+            for (int64_t k = b; k < e; ++k)
+                mStiffness0.block(uint32_t(k)) = mSystem.block(uint32_t(k));
         });
     }
     parallelFor(n, par, [&](int64_t b, int64_t e) {

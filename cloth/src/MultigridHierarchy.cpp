@@ -18,7 +18,9 @@ constexpr double kStalledCoarsening = 0.9;
 // stalled coarsening above this size smooths its coarsest level instead.
 constexpr uint32_t kMaxDenseVertices = 512;
 
-std::string prolongationName(std::size_t k) { return "MultigridSettings.prolongations[" + std::to_string(k) + "]"; }
+std::string prolongationName(std::size_t k) {
+    return "MultigridSettings.prolongations[" + std::to_string(k) + "]";
+}
 
 // Greedy colouring in vertex order: a vertex takes the smallest colour none of its (already
 // coloured, lower-index) neighbours has. Vertices of one colour share no block, so a colour's
@@ -57,10 +59,12 @@ void setProlongation(const SparseInterpolation& p, MultigridLevel& fine) {
     std::vector<SparseInterpolation::Term> row;
     for (uint32_t r = 0; r < p.rowCount(); ++r) {
         row.assign(p.terms.begin() + p.rowStart[r], p.terms.begin() + p.rowStart[r + 1]);
-        std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.source < y.source; });
+        std::sort(row.begin(), row.end(),
+                  [](const auto& x, const auto& y) { return x.source < y.source; });
         for (std::size_t k = 0; k < row.size();) {
             SparseInterpolation::Term merged = row[k++];
-            while (k < row.size() && row[k].source == merged.source) merged.weight += row[k++].weight;
+            while (k < row.size() && row[k].source == merged.source)
+                merged.weight += row[k++].weight;
             if (merged.weight == 0.0) continue;
             fine.prolongSource.push_back(merged.source);
             fine.prolongWeight.push_back(merged.weight);
@@ -107,7 +111,8 @@ void buildGalerkin(MultigridLevel& fine, MultigridLevel& coarse) {
         }
         std::sort(cols.begin(), cols.end());
         const uint32_t base = static_cast<uint32_t>(fine.productColumns.size());
-        for (std::size_t q = 0; q < cols.size(); ++q) local[cols[q]] = base + static_cast<uint32_t>(q);
+        for (std::size_t q = 0; q < cols.size(); ++q)
+            local[cols[q]] = base + static_cast<uint32_t>(q);
         fine.productColumns.insert(fine.productColumns.end(), cols.begin(), cols.end());
         fine.productStart.push_back(static_cast<uint32_t>(fine.productColumns.size()));
         for (uint32_t k = fine.rowStart[i]; k < fine.rowStart[i + 1]; ++k) {
@@ -140,7 +145,8 @@ void buildGalerkin(MultigridLevel& fine, MultigridLevel& coarse) {
         }
         std::sort(cols.begin(), cols.end());
         const uint32_t base = static_cast<uint32_t>(coarse.columns.size());
-        for (std::size_t q = 0; q < cols.size(); ++q) local[cols[q]] = base + static_cast<uint32_t>(q);
+        for (std::size_t q = 0; q < cols.size(); ++q)
+            local[cols[q]] = base + static_cast<uint32_t>(q);
         coarse.diagonal[c] = local[c];
         coarse.columns.insert(coarse.columns.end(), cols.begin(), cols.end());
         coarse.rowStart.push_back(static_cast<uint32_t>(coarse.columns.size()));
@@ -190,7 +196,8 @@ SparseInterpolation coarsen(const detail::LevelMatrix& a, const MultigridSetting
                    : detail::independentSetProlongation(graph);
     };
     SparseInterpolation p = once(settings.strengthThreshold);
-    if (p.sourceCount > kStalledCoarsening * a.size() && settings.strengthThreshold > 0.0) p = once(0.0);
+    if (p.sourceCount > kStalledCoarsening * a.size() && settings.strengthThreshold > 0.0)
+        p = once(0.0);
     return p;
 }
 
@@ -198,12 +205,14 @@ SparseInterpolation coarsen(const detail::LevelMatrix& a, const MultigridSetting
 // 4-8 grid (red-black), and the halved level's Galerkin operator has twice the blocks per row, so
 // it costs as much to smooth as the level above; two passes composed coarsen by about eight
 // (measured in MultigridBench.cpp).
-SparseInterpolation algebraicProlongation(const MultigridLevel& level, const std::vector<Mat3>& values,
+SparseInterpolation algebraicProlongation(const MultigridLevel& level,
+                                          const std::vector<Mat3>& values,
                                           const MultigridSettings& settings) {
     const detail::LevelMatrix a{level.rowStart, level.columns, level.diagonal, values};
     SparseInterpolation first = coarsen(a, settings);
     if (settings.coarsening == CoarseningKind::SmoothedAggregation) return first;
-    if (first.sourceCount <= settings.coarsestVertices || first.sourceCount > kStalledCoarsening * level.size) {
+    if (first.sourceCount <= settings.coarsestVertices ||
+        first.sourceCount > kStalledCoarsening * level.size) {
         return first;
     }
     MultigridLevel fine, middle;
@@ -216,7 +225,8 @@ SparseInterpolation algebraicProlongation(const MultigridLevel& level, const std
     buildGalerkin(fine, middle);
     const std::vector<Mat3> middleValues = galerkinValues(fine, middle, values);
     const SparseInterpolation second =
-        coarsen(detail::LevelMatrix{middle.rowStart, middle.columns, middle.diagonal, middleValues}, settings);
+        coarsen(detail::LevelMatrix{middle.rowStart, middle.columns, middle.diagonal, middleValues},
+                settings);
     if (second.sourceCount > kStalledCoarsening * middle.size) return first;
     return detail::compose(first, second);
 }
@@ -225,52 +235,59 @@ SparseInterpolation algebraicProlongation(const MultigridLevel& level, const std
 
 Status MultigridSettings::validate() const {
     if (!(strengthThreshold >= 0.0 && strengthThreshold < 1.0)) {
-        return Status::invalidArgument("MultigridSettings.strengthThreshold = " + std::to_string(strengthThreshold) +
-                                       " is outside [0, 1)");
+        return Status::invalidArgument("MultigridSettings.strengthThreshold = " +
+                                       std::to_string(strengthThreshold) + " is outside [0, 1)");
     }
-    if (coarsening != CoarseningKind::IndependentSet && coarsening != CoarseningKind::SmoothedAggregation) {
+    if (coarsening != CoarseningKind::IndependentSet &&
+        coarsening != CoarseningKind::SmoothedAggregation) {
         return Status::invalidArgument("MultigridSettings.coarsening is not a CoarseningKind");
     }
     if (smoothingSweeps < 1 || smoothingSweeps > 8) {
-        return Status::invalidArgument("MultigridSettings.smoothingSweeps = " + std::to_string(smoothingSweeps) +
-                                       " is outside [1, 8]");
+        return Status::invalidArgument("MultigridSettings.smoothingSweeps = " +
+                                       std::to_string(smoothingSweeps) + " is outside [1, 8]");
     }
     if (coarsestVertices < 1 || coarsestVertices > kMaxDenseVertices) {
-        return Status::invalidArgument("MultigridSettings.coarsestVertices = " + std::to_string(coarsestVertices) +
-                                       " is outside [1, 512]");
+        return Status::invalidArgument("MultigridSettings.coarsestVertices = " +
+                                       std::to_string(coarsestVertices) + " is outside [1, 512]");
     }
     if (maxLevels < 2 || maxLevels > 32) {
-        return Status::invalidArgument("MultigridSettings.maxLevels = " + std::to_string(maxLevels) +
-                                       " is outside [2, 32]");
+        return Status::invalidArgument(
+            "MultigridSettings.maxLevels = " + std::to_string(maxLevels) + " is outside [2, 32]");
     }
     return Status::ok();
 }
 
-Status MultigridHierarchy::checkProlongations(uint32_t fineSize, const std::vector<SparseInterpolation>& list) {
+Status MultigridHierarchy::checkProlongations(uint32_t fineSize,
+                                              const std::vector<SparseInterpolation>& list) {
     uint32_t rows = fineSize;
     for (std::size_t k = 0; k < list.size(); ++k) {
         const SparseInterpolation& p = list[k];
         if (p.rowStart.empty() || p.rowStart.front() != 0 || p.rowStart.back() != p.terms.size()) {
-            return Status::invalidArgument(prolongationName(k) + ".rowStart must start at 0 and end at terms.size()");
+            return Status::invalidArgument(prolongationName(k) +
+                                           ".rowStart must start at 0 and end at terms.size()");
         }
         if (p.rowCount() != rows) {
-            return Status::invalidArgument(prolongationName(k) + " has " + std::to_string(p.rowCount()) +
-                                           " rows; its finer level has " + std::to_string(rows) + " vertices");
+            return Status::invalidArgument(
+                prolongationName(k) + " has " + std::to_string(p.rowCount()) +
+                " rows; its finer level has " + std::to_string(rows) + " vertices");
         }
-        if (p.sourceCount == 0) return Status::invalidArgument(prolongationName(k) + ".sourceCount must be >= 1");
+        if (p.sourceCount == 0)
+            return Status::invalidArgument(prolongationName(k) + ".sourceCount must be >= 1");
         for (uint32_t r = 0; r < p.rowCount(); ++r) {
             if (p.rowStart[r + 1] < p.rowStart[r]) {
-                return Status::invalidArgument(prolongationName(k) + ".rowStart decreases at row " + std::to_string(r));
+                return Status::invalidArgument(prolongationName(k) + ".rowStart decreases at row " +
+                                               std::to_string(r));
             }
             for (uint32_t t = p.rowStart[r]; t < p.rowStart[r + 1]; ++t) {
                 if (p.terms[t].source >= p.sourceCount) {
-                    return Status::invalidArgument(prolongationName(k) + " row " + std::to_string(r) +
-                                                   " refers to coarse vertex " + std::to_string(p.terms[t].source) +
-                                                   " of " + std::to_string(p.sourceCount));
+                    return Status::invalidArgument(prolongationName(k) + " row " +
+                                                   std::to_string(r) + " refers to coarse vertex " +
+                                                   std::to_string(p.terms[t].source) + " of " +
+                                                   std::to_string(p.sourceCount));
                 }
                 if (!std::isfinite(p.terms[t].weight)) {
-                    return Status::invalidArgument(prolongationName(k) + " row " + std::to_string(r) +
-                                                   " has a non-finite weight");
+                    return Status::invalidArgument(prolongationName(k) + " row " +
+                                                   std::to_string(r) + " has a non-finite weight");
                 }
             }
         }
@@ -279,10 +296,12 @@ Status MultigridHierarchy::checkProlongations(uint32_t fineSize, const std::vect
     return Status::ok();
 }
 
-Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fine, const MultigridSettings& settings) {
+Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fine,
+                                                     const MultigridSettings& settings) {
     if (Status s = settings.validate(); !s) return s;
     if (Status s = checkProlongations(fine.size(), settings.prolongations); !s) return s;
-    if (fine.size() == 0) return Status::invalidArgument("MultigridHierarchy: the matrix has no rows");
+    if (fine.size() == 0)
+        return Status::invalidArgument("MultigridHierarchy: the matrix has no rows");
 
     MultigridHierarchy h;
     h.mLevels.emplace_back();
@@ -332,7 +351,8 @@ Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fi
 }
 
 bool MultigridHierarchy::matches(const BlockSparseMatrix& matrix) const {
-    return !mLevels.empty() && matrix.rowStart() == mLevels[0].rowStart && matrix.columns() == mLevels[0].columns;
+    return !mLevels.empty() && matrix.rowStart() == mLevels[0].rowStart &&
+           matrix.columns() == mLevels[0].columns;
 }
 
 double MultigridHierarchy::operatorComplexity() const {

@@ -55,16 +55,19 @@ struct MultigridPcg::Impl {
         return s.constrained[i] ? times(s.filter[i], v) : v;
     }
     // Row i of the level's operator S A S + (I - S) applied to x.
-    EIGEN_STRONG_INLINE Vec4 row(const MultigridLevel& l, const LevelState& s, int64_t i, const std::vector<Vec4>& x) const {
+    EIGEN_STRONG_INLINE Vec4 row(const MultigridLevel& l, const LevelState& s, int64_t i,
+                                 const std::vector<Vec4>& x) const {
         Vec4 sum = Vec4::Zero();
-        for (uint32_t k = l.rowStart[i]; k < l.rowStart[i + 1]; ++k) sum += times(s.blocks[k], x[l.columns[k]]);
+        for (uint32_t k = l.rowStart[i]; k < l.rowStart[i + 1]; ++k)
+            sum += times(s.blocks[k], x[l.columns[k]]);
         if (s.constrained[i]) sum += x[i] - times(s.filter[i], x[i]);
         return sum;
     }
 
     Status ensureHierarchy(const BlockSparseMatrix& a);
     void allocate();
-    Status setUp(const BlockSparseMatrix& a, const std::vector<VertexFilter>& f, const ParallelSettings& par);
+    Status setUp(const BlockSparseMatrix& a, const std::vector<VertexFilter>& f,
+                 const ParallelSettings& par);
     void coarseFilters(int k, const ParallelSettings& par);
     void galerkin(int k, const ParallelSettings& par);
     Status inverseDiagonal(int k, const ParallelSettings& par);
@@ -157,7 +160,8 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
     LevelState& cs = levels[k + 1];
     parallelFor(fine.size, par, [&](int64_t i0, int64_t i1) {
         for (int64_t i = i0; i < i1; ++i) {
-            for (uint32_t s = fine.productStart[i]; s < fine.productStart[i + 1]; ++s) fs.product[s].setZero();
+            for (uint32_t s = fine.productStart[i]; s < fine.productStart[i + 1]; ++s)
+                fs.product[s].setZero();
             uint32_t q = fine.productMapStart[i];
             for (uint32_t k2 = fine.rowStart[i]; k2 < fine.rowStart[i + 1]; ++k2) {
                 const Block& b = fs.blocks[k2];
@@ -170,7 +174,8 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
     });
     parallelFor(coarse.size, par, [&](int64_t c0, int64_t c1) {
         for (int64_t c = c0; c < c1; ++c) {
-            for (uint32_t s = coarse.rowStart[c]; s < coarse.rowStart[c + 1]; ++s) cs.blocks[s].setZero();
+            for (uint32_t s = coarse.rowStart[c]; s < coarse.rowStart[c + 1]; ++s)
+                cs.blocks[s].setZero();
             uint32_t q = fine.galerkinMapStart[c];
             for (uint32_t t = fine.restrictStart[c]; t < fine.restrictStart[c + 1]; ++t) {
                 const uint32_t i = fine.restrictSource[t];
@@ -199,7 +204,8 @@ Status MultigridPcg::Impl::inverseDiagonal(int k, const ParallelSettings& par) {
             Mat3 d = top(s.blocks[l.diagonal[i]]);
             if (s.constrained[i]) d += Mat3::Identity() - top(s.filter[i]);
             // A symmetric 3x3 block is positive definite iff its leading minors are positive.
-            const bool definite = d(0, 0) > 0.0 && d.topLeftCorner<2, 2>().determinant() > 0.0 && d.determinant() > 0.0;
+            const bool definite = d(0, 0) > 0.0 && d.topLeftCorner<2, 2>().determinant() > 0.0 &&
+                                  d.determinant() > 0.0;
             s.indefinite[i] = !definite;
             s.inverseDiagonal[i] = padBlock(definite ? Mat3(d.inverse()) : Mat3::Zero());
         }
@@ -207,8 +213,9 @@ Status MultigridPcg::Impl::inverseDiagonal(int k, const ParallelSettings& par) {
     for (uint32_t i = 0; i < l.size; ++i) {
         if (s.indefinite[i]) {
             return Status::error(StatusCode::NumericalFailure,
-                                 "MultigridPcg: diagonal block of vertex " + std::to_string(i) + " on level " +
-                                     std::to_string(k) + " is not positive definite (or not finite)");
+                                 "MultigridPcg: diagonal block of vertex " + std::to_string(i) +
+                                     " on level " + std::to_string(k) +
+                                     " is not positive definite (or not finite)");
         }
     }
     return Status::ok();
@@ -238,9 +245,10 @@ Status MultigridPcg::Impl::factorCoarsest() {
         double d = dense[j * m + j];
         for (std::size_t p = 0; p < j; ++p) d -= dense[j * m + p] * dense[j * m + p];
         if (!(d > 0.0) || !std::isfinite(d)) {
-            return Status::error(StatusCode::NumericalFailure,
-                                 "MultigridPcg: the coarsest operator is not positive definite (row " +
-                                     std::to_string(j) + ")");
+            return Status::error(
+                StatusCode::NumericalFailure,
+                "MultigridPcg: the coarsest operator is not positive definite (row " +
+                    std::to_string(j) + ")");
         }
         const double root = std::sqrt(d);
         dense[j * m + j] = root;
@@ -256,8 +264,9 @@ Status MultigridPcg::Impl::factorCoarsest() {
 Status MultigridPcg::Impl::setUp(const BlockSparseMatrix& a, const std::vector<VertexFilter>& f,
                                  const ParallelSettings& par) {
     if (f.size() != a.size()) {
-        return Status::invalidArgument("MultigridPcg: " + std::to_string(f.size()) + " filters for a matrix of " +
-                                       std::to_string(a.size()) + " rows");
+        return Status::invalidArgument("MultigridPcg: " + std::to_string(f.size()) +
+                                       " filters for a matrix of " + std::to_string(a.size()) +
+                                       " rows");
     }
     if (Status st = ensureHierarchy(a); !st) return st;
     const MultigridLevel& l0 = level(0);
@@ -336,7 +345,8 @@ void MultigridPcg::Impl::solveCoarsest(const ParallelSettings& par) {
         for (std::size_t p = i + 1; p < m; ++p) v -= dense[p * m + i] * denseRhs[p];
         denseRhs[i] = v / dense[i * m + i];
     }
-    for (uint32_t i = 0; i < n; ++i) s.x[i] = Vec4(denseRhs[3 * i], denseRhs[3 * i + 1], denseRhs[3 * i + 2], 0.0);
+    for (uint32_t i = 0; i < n; ++i)
+        s.x[i] = Vec4(denseRhs[3 * i], denseRhs[3 * i + 1], denseRhs[3 * i + 2], 0.0);
 }
 
 // x_k = V(rhs_k): pre-smoothing, coarse correction through P' = S_k P S_k+1, post-smoothing.
@@ -351,7 +361,8 @@ void MultigridPcg::Impl::vcycle(int k, const ParallelSettings& par) {
     std::fill(s.x.begin(), s.x.end(), Vec4::Zero());
     for (int sweep = 0; sweep < settings.smoothingSweeps; ++sweep) smooth(k, true, par);
     parallelFor(l.size, par, [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) s.residual[i] = project(s, i, s.rhs[i] - row(l, s, i, s.x));
+        for (int64_t i = i0; i < i1; ++i)
+            s.residual[i] = project(s, i, s.rhs[i] - row(l, s, i, s.x));
     });
     parallelFor(level(k + 1).size, par, [&](int64_t c0, int64_t c1) {
         for (int64_t c = c0; c < c1; ++c) {
@@ -407,22 +418,27 @@ void MultigridPcg::applyPreconditioner(const std::vector<Vec3>& r, std::vector<V
     for (int64_t i = 0; i < n; ++i) outZ[i] = Impl::project(s0, i, s0.x[i]).head<3>();
 }
 
-Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexFilter>& f, const std::vector<Vec3>& b,
-                           const std::vector<Vec3>& z, std::vector<Vec3>& dv, const PcgSettings& settings,
+Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexFilter>& f,
+                           const std::vector<Vec3>& b, const std::vector<Vec3>& z,
+                           std::vector<Vec3>& dv, const PcgSettings& settings,
                            const ParallelSettings& parallel, PcgResult& outResult) {
     outResult = PcgResult{};
     const int64_t n = a.size();
     if (b.size() != a.size() || z.size() != a.size() || dv.size() != a.size()) {
-        return Status::invalidArgument("MultigridPcg::solve: b, z and dv must have one entry per matrix row (" +
-                                       std::to_string(n) + ")");
+        return Status::invalidArgument(
+            "MultigridPcg::solve: b, z and dv must have one entry per matrix row (" +
+            std::to_string(n) + ")");
     }
-    if (!(settings.relativeTolerance > 0.0 && settings.relativeTolerance < 1.0) || settings.maxIterations < 1) {
-        return Status::invalidArgument("MultigridPcg::solve: PcgSettings.relativeTolerance must be in (0, 1) and "
-                                       "maxIterations >= 1");
+    if (!(settings.relativeTolerance > 0.0 && settings.relativeTolerance < 1.0) ||
+        settings.maxIterations < 1) {
+        return Status::invalidArgument(
+            "MultigridPcg::solve: PcgSettings.relativeTolerance must be in (0, 1) and "
+            "maxIterations >= 1");
     }
     Impl& m = *mImpl;
     if (Status s = m.setUp(a, f, parallel); !s) return s;
-    for (auto* v : {&m.solution, &m.residual, &m.direction, &m.product, &m.preconditioned}) v->resize(n);
+    for (auto* v : {&m.solution, &m.residual, &m.direction, &m.product, &m.preconditioned})
+        v->resize(n);
     auto& x = m.solution;
     auto& r = m.residual;
     auto& p = m.direction;
@@ -439,7 +455,8 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
     });
     const double rhsNorm2 = chunkedPass(n, parallel, m.partials, [&](int64_t i) {
         Vec3 az = Vec3::Zero();
-        for (uint32_t k = a.rowStart()[i]; k < a.rowStart()[i + 1]; ++k) az += a.block(k) * z[a.columns()[k]];
+        for (uint32_t k = a.rowStart()[i]; k < a.rowStart()[i + 1]; ++k)
+            az += a.block(k) * z[a.columns()[k]];
         return Eigen::Vector2d(f[i].project(b[i] - az).squaredNorm(), 0.0);
     })[0];
     if (rhsNorm2 == 0.0) {
@@ -471,7 +488,8 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
     while (r2 > tol2 && outResult.iterations < settings.maxIterations) {
         const double pq = chunkedPass(n, parallel, m.partials, [&](int64_t i) {
             Vec4 sum = Vec4::Zero();
-            for (uint32_t k = l0.rowStart[i]; k < l0.rowStart[i + 1]; ++k) sum += times(s0.blocks[k], p[l0.columns[k]]);
+            for (uint32_t k = l0.rowStart[i]; k < l0.rowStart[i + 1]; ++k)
+                sum += times(s0.blocks[k], p[l0.columns[k]]);
             q[i] = Impl::project(s0, i, sum);
             return Eigen::Vector2d(p[i].dot(q[i]), 0.0);
         })[0];

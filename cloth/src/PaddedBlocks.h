@@ -24,8 +24,8 @@ constexpr int64_t kChunk = 256;
 // Runs body(i) over all vertices chunk by chunk and returns the per-chunk sums of the two values
 // it yields, added in chunk order (bit-identical for any thread count).
 template <typename Body>
-Eigen::Vector2d chunkedPass(int64_t n, const ParallelSettings& parallel, std::vector<double>& partials,
-                            Body&& body) {
+Eigen::Vector2d chunkedPass(int64_t n, const ParallelSettings& parallel,
+                            std::vector<double>& partials, Body&& body) {
     const int64_t chunks = (n + kChunk - 1) / kChunk;
     partials.resize(2 * chunks);
     ParallelSettings byChunk = parallel;
@@ -40,7 +40,8 @@ Eigen::Vector2d chunkedPass(int64_t n, const ParallelSettings& parallel, std::ve
         }
     });
     Eigen::Vector2d total = Eigen::Vector2d::Zero();
-    for (int64_t c = 0; c < chunks; ++c) total += Eigen::Vector2d(partials[2 * c], partials[2 * c + 1]);
+    for (int64_t c = 0; c < chunks; ++c)
+        total += Eigen::Vector2d(partials[2 * c], partials[2 * c + 1]);
     return total;
 }
 

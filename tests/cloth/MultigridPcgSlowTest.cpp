@@ -16,7 +16,8 @@ TEST(MultigridPcgSlow, IterationsStayFlatFrom17To129OnTheBenchSheet) {
         material.damping = 0.01;
         SimulationSettings settings;
         settings.integrator = IntegratorKind::ImplicitMultigrid;
-        auto sim = test::cornerPinnedSheet(test::horizontalSheet(uint32_t(resolutions[r] - 1)), material, settings);
+        auto sim = test::cornerPinnedSheet(test::horizontalSheet(uint32_t(resolutions[r] - 1)),
+                                           material, settings);
         for (int i = 0; i < 30; ++i) ASSERT_TRUE(sim->step(1.0 / 60.0).isOk());
         int total = 0;
         for (int i = 0; i < 3; ++i) {

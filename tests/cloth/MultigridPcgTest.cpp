@@ -16,11 +16,13 @@ using namespace cc::cloth;
 namespace {
 
 /// The bench's sheet (1 m, flat at 1 m, pinned at its two far corners) with `vertices` per side.
-std::unique_ptr<ClothSimulation> benchSheet(int vertices, IntegratorKind integrator, SimulationSettings settings = {}) {
+std::unique_ptr<ClothSimulation> benchSheet(int vertices, IntegratorKind integrator,
+                                            SimulationSettings settings = {}) {
     ClothMaterial material;
     material.damping = 0.01;
     settings.integrator = integrator;
-    return test::cornerPinnedSheet(test::horizontalSheet(uint32_t(vertices - 1)), material, settings);
+    return test::cornerPinnedSheet(test::horizontalSheet(uint32_t(vertices - 1)), material,
+                                   settings);
 }
 
 const ImplicitEulerIntegrator& implicitOf(const ClothSimulation& sim) {
@@ -45,7 +47,8 @@ struct ConstrainedSystem {
         std::uniform_real_distribution<double> u(-1.0, 1.0);
         for (uint32_t i = 0; i < n; ++i) b[i] = 1e-3 * Vec3(u(random), u(random), u(random));
         const RectanglePanel panel = test::horizontalSheet(uint32_t(vertices - 1));
-        for (uint32_t corner : {panel.vertexIndex(0, panel.rows), panel.vertexIndex(panel.columns, panel.rows)}) {
+        for (uint32_t corner :
+             {panel.vertexIndex(0, panel.rows), panel.vertexIndex(panel.columns, panel.rows)}) {
             filters[corner].kind = ConstraintKind::Target;
             z[corner] = Vec3(0.0, 0.01, 0.0);
         }
@@ -103,7 +106,8 @@ TEST(MultigridPcg, IterationsDoNotGrowFrom17To65) {
 }
 
 TEST(MultigridPcg, AnswerEqualsCholmodWithPinsAndContactPlanes) {
-    for (CoarseningKind coarsening : {CoarseningKind::IndependentSet, CoarseningKind::SmoothedAggregation}) {
+    for (CoarseningKind coarsening :
+         {CoarseningKind::IndependentSet, CoarseningKind::SmoothedAggregation}) {
         ConstrainedSystem system(33);
         MultigridSettings settings;
         settings.coarsening = coarsening;
@@ -113,16 +117,21 @@ TEST(MultigridPcg, AnswerEqualsCholmodWithPinsAndContactPlanes) {
         pcg.relativeTolerance = 1e-10;
         std::vector<Vec3> dv(system.z.size(), Vec3::Zero()), exact(system.z.size());
         PcgResult result;
-        ASSERT_TRUE(mg.solve(system.matrix(), system.filters, system.b, system.z, dv, pcg, {}, result).isOk());
+        ASSERT_TRUE(
+            mg.solve(system.matrix(), system.filters, system.b, system.z, dv, pcg, {}, result)
+                .isOk());
         EXPECT_TRUE(result.converged);
         EXPECT_GE(mg.hierarchy()->levelCount(), 3);
         CholmodSolver cholmod;
-        ASSERT_TRUE(cholmod.solve(system.matrix(), system.filters, system.b, system.z, exact).isOk());
+        ASSERT_TRUE(
+            cholmod.solve(system.matrix(), system.filters, system.b, system.z, exact).isOk());
         EXPECT_LT(relativeDifference(dv, exact), 1e-7) << "coarsening " << int(coarsening);
         for (std::size_t i = 0; i < dv.size(); ++i) {
             const VertexFilter& f = system.filters[i];
             // The constrained part of dv is exactly z.
-            EXPECT_LT((dv[i] - f.project(dv[i]) - (system.z[i] - f.project(system.z[i]))).norm(), 1e-15) << i;
+            EXPECT_LT((dv[i] - f.project(dv[i]) - (system.z[i] - f.project(system.z[i]))).norm(),
+                      1e-15)
+                << i;
         }
     }
 }
@@ -138,11 +147,14 @@ TEST(MultigridPcg, HandedInProlongationsGiveCholmodsAnswer) {
         pcg.relativeTolerance = 1e-10;
         std::vector<Vec3> dv(system.z.size(), Vec3::Zero()), exact(system.z.size());
         PcgResult result;
-        ASSERT_TRUE(mg.solve(system.matrix(), system.filters, system.b, system.z, dv, pcg, {}, result).isOk());
+        ASSERT_TRUE(
+            mg.solve(system.matrix(), system.filters, system.b, system.z, dv, pcg, {}, result)
+                .isOk());
         EXPECT_EQ(mg.hierarchy()->levelCount(), pairs ? 5 : 9);  // 289, 81, 25, 9, 4 vertices
         EXPECT_LE(result.iterations, 30);
         CholmodSolver cholmod;
-        ASSERT_TRUE(cholmod.solve(system.matrix(), system.filters, system.b, system.z, exact).isOk());
+        ASSERT_TRUE(
+            cholmod.solve(system.matrix(), system.filters, system.b, system.z, exact).isOk());
         EXPECT_LT(relativeDifference(dv, exact), 1e-7) << "pairs " << pairs;
     }
 }
@@ -154,14 +166,19 @@ TEST(MultigridPcg, StepAgreesWithCholmodStep) {
     for (int i = 0; i < 20; ++i) ASSERT_TRUE(source->step(1.0 / 60.0).isOk());
     std::vector<Vec3> positions[2];
     int kind = 0;
-    for (IntegratorKind integrator : {IntegratorKind::ImplicitMultigrid, IntegratorKind::ImplicitCholmod}) {
+    for (IntegratorKind integrator :
+         {IntegratorKind::ImplicitMultigrid, IntegratorKind::ImplicitCholmod}) {
         SimulationSettings settings;
         settings.implicit.pcg.relativeTolerance = 1e-8;
         auto sim = benchSheet(17, integrator, settings);
         sim->state() = source->state();
-        ASSERT_TRUE(sim->constraints().setTarget(6, source->state().positions[6] + Vec3(0.01, 0.0, 0.0)).isOk());
+        ASSERT_TRUE(sim->constraints()
+                        .setTarget(6, source->state().positions[6] + Vec3(0.01, 0.0, 0.0))
+                        .isOk());
         for (uint32_t v = 20; v < 40; ++v) {
-            ASSERT_TRUE(sim->constraints().setContactPlane(v, source->state().positions[v], Vec3(0, 1, 0)).isOk());
+            ASSERT_TRUE(sim->constraints()
+                            .setContactPlane(v, source->state().positions[v], Vec3(0, 1, 0))
+                            .isOk());
         }
         ASSERT_TRUE(sim->step(1.0 / 60.0).isOk());
         positions[kind++] = sim->state().positions;
@@ -215,8 +232,8 @@ TEST(MultigridPcg, BitIdenticalForOneAndTwoThreads) {
             if (i == 4) {
                 for (uint32_t v = 0; v < 17; ++v) {
                     EXPECT_TRUE(sim->constraints()
-                                    .setContactPlane(v, sim->state().positions[v], Vec3::UnitY(), Vec3::Zero(),
-                                                     Friction{0.5, 0.3})
+                                    .setContactPlane(v, sim->state().positions[v], Vec3::UnitY(),
+                                                     Vec3::Zero(), Friction{0.5, 0.3})
                                     .isOk());
                 }
             }
@@ -236,7 +253,9 @@ TEST(MultigridPcg, HierarchyIsBuiltOnceAndSolvesAllocateNothing) {
     MultigridPcg solver;
     std::vector<Vec3> dv(system.z.size(), Vec3::Zero());
     PcgResult result;
-    ASSERT_TRUE(solver.solve(system.matrix(), system.filters, system.b, system.z, dv, {}, {}, result).isOk());
+    ASSERT_TRUE(
+        solver.solve(system.matrix(), system.filters, system.b, system.z, dv, {}, {}, result)
+            .isOk());
     const long probe = test::allocationCount();
     int* heap = new int[64];
     volatile int* touched = heap;
@@ -245,8 +264,11 @@ TEST(MultigridPcg, HierarchyIsBuiltOnceAndSolvesAllocateNothing) {
     ASSERT_GT(test::allocationCount(), probe);  // the counter sees allocations
     const long before = test::allocationCount();
     for (int i = 0; i < 3; ++i) {
-        system.filters[40].kind = i % 2 ? ConstraintKind::Target : ConstraintKind::Free;  // filters change
-        ASSERT_TRUE(solver.solve(system.matrix(), system.filters, system.b, system.z, dv, {}, {}, result).isOk());
+        system.filters[40].kind =
+            i % 2 ? ConstraintKind::Target : ConstraintKind::Free;  // filters change
+        ASSERT_TRUE(
+            solver.solve(system.matrix(), system.filters, system.b, system.z, dv, {}, {}, result)
+                .isOk());
     }
     EXPECT_EQ(test::allocationCount() - before, 0);
     EXPECT_EQ(solver.hierarchyBuilds(), 1);
@@ -254,7 +276,8 @@ TEST(MultigridPcg, HierarchyIsBuiltOnceAndSolvesAllocateNothing) {
     for (int i = 0; i < 10; ++i) {
         sim->constraints().clearContactPlanes();
         if (i % 2) {
-            ASSERT_TRUE(sim->constraints().setContactPlane(10, Vec3(0, 0.5, 0), Vec3::UnitY()).isOk());
+            ASSERT_TRUE(
+                sim->constraints().setContactPlane(10, Vec3(0, 0.5, 0), Vec3::UnitY()).isOk());
         }
         ASSERT_TRUE(sim->step(1.0 / 60.0).isOk());
     }
@@ -270,7 +293,8 @@ TEST(MultigridPcg, BadInputGivesAClearStatus) {
         auto sim = ClothSimulation::create(mesh, ClothMaterial{}, settings);
         ASSERT_FALSE(sim.isOk()) << fragment;
         EXPECT_EQ(sim.status().code(), StatusCode::InvalidArgument);
-        EXPECT_NE(sim.status().message().find(fragment), std::string::npos) << sim.status().message();
+        EXPECT_NE(sim.status().message().find(fragment), std::string::npos)
+            << sim.status().message();
     };
     SimulationSettings good;
     good.integrator = IntegratorKind::ImplicitMultigrid;
@@ -313,7 +337,8 @@ TEST(MultigridPcg, BadInputGivesAClearStatus) {
     std::vector<VertexFilter> fewer(system.filters.begin(), system.filters.end() - 1);
     Status st = mg.solve(system.matrix(), fewer, system.b, system.z, dv, {}, {}, result);
     EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
-    EXPECT_NE(st.message().find("filters for a matrix of 81 rows"), std::string::npos) << st.message();
+    EXPECT_NE(st.message().find("filters for a matrix of 81 rows"), std::string::npos)
+        << st.message();
     std::vector<Vec3> shortB(system.b.begin(), system.b.end() - 1);
     st = mg.solve(system.matrix(), system.filters, shortB, system.z, dv, {}, {}, result);
     EXPECT_EQ(st.code(), StatusCode::InvalidArgument);
@@ -321,5 +346,6 @@ TEST(MultigridPcg, BadInputGivesAClearStatus) {
     indefinite.block(indefinite.diagonalSlot(30)) *= -1.0;
     st = mg.solve(indefinite, system.filters, system.b, system.z, dv, {}, {}, result);
     EXPECT_EQ(st.code(), StatusCode::NumericalFailure);
-    EXPECT_NE(st.message().find("vertex 30 on level 0 is not positive definite"), std::string::npos) << st.message();
+    EXPECT_NE(st.message().find("vertex 30 on level 0 is not positive definite"), std::string::npos)
+        << st.message();
 }

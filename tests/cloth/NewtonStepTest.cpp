@@ -23,10 +23,11 @@ struct Residuals {
 
 // r(dv) = h (f(x1) + M g - beta K0 v1) - M dv on the free directions (all but the two pinned
 // corners), K0 the definite stiffness at x0, for the step from `before` to `after` of the sheet.
-Residuals backwardEulerResidual(const RectanglePanel& panel, const ClothMaterial& material, const ClothState& before,
-                                const ClothState& after, const Vec3& g) {
+Residuals backwardEulerResidual(const RectanglePanel& panel, const ClothMaterial& material,
+                                const ClothState& before, const ClothState& after, const Vec3& g) {
     const ClothMesh mesh = panel.build().value();
-    auto model = ContinuumModel::fromMesh(mesh, ClothTopology::build(mesh).value(), material).value();
+    auto model =
+        ContinuumModel::fromMesh(mesh, ClothTopology::build(mesh).value(), material).value();
     std::vector<std::pair<uint32_t, uint32_t>> couplings;
     model->appendCouplings(couplings);
     BlockSparseMatrix k0;
@@ -47,7 +48,8 @@ Residuals backwardEulerResidual(const RectanglePanel& panel, const ClothMaterial
 
     Residuals out;
     double newton2 = 0.0, reference2 = 0.0;
-    const uint32_t pins[] = {panel.vertexIndex(0, panel.rows), panel.vertexIndex(panel.columns, panel.rows)};
+    const uint32_t pins[] = {panel.vertexIndex(0, panel.rows),
+                             panel.vertexIndex(panel.columns, panel.rows)};
     for (uint32_t i = 0; i < n; ++i) {
         const double m = before.masses[i];
         if (i == pins[0] || i == pins[1]) continue;  // S = 0
@@ -85,18 +87,22 @@ struct NewtonScene {
 
 TEST(NewtonStep, ConvergedStepSatisfiesTheNonlinearBackwardEulerEquations) {
     const NewtonScene setup;
-    for (IntegratorKind integrator : {IntegratorKind::ImplicitCholmod, IntegratorKind::ImplicitMultigrid}) {
+    for (IntegratorKind integrator :
+         {IntegratorKind::ImplicitCholmod, IntegratorKind::ImplicitMultigrid}) {
         SimulationSettings settings;
         settings.integrator = integrator;
         settings.implicit.newtonIterations = 60;
         settings.implicit.newtonTolerance = 1e-8;
         settings.implicit.pcg.relativeTolerance = 1e-10;
         const auto sim = setup.step(settings);
-        const NewtonStats& stats = static_cast<const ImplicitEulerIntegrator&>(sim->integrator()).newtonStats();
-        EXPECT_TRUE(stats.converged) << stats.iterations << " iterations, residual " << stats.relativeResidual;
+        const NewtonStats& stats =
+            static_cast<const ImplicitEulerIntegrator&>(sim->integrator()).newtonStats();
+        EXPECT_TRUE(stats.converged)
+            << stats.iterations << " iterations, residual " << stats.relativeResidual;
         EXPECT_GT(stats.iterations, 2);
-        const Residuals r = backwardEulerResidual(setup.panel, setup.material, setup.source->state(), sim->state(),
-                                                    sim->settings().gravity);
+        const Residuals r =
+            backwardEulerResidual(setup.panel, setup.material, setup.source->state(), sim->state(),
+                                  sim->settings().gravity);
         EXPECT_LE(r.newton, 1e-8) << integratorKindName(integrator);
         // The integrator's own measure agrees with the independent one.
         EXPECT_NEAR(r.newton, stats.relativeResidual, 1e-10);
@@ -120,8 +126,8 @@ TEST(NewtonStep, OneIterationIsTheLinearisedStepAndLeavesAResidual) {
     EXPECT_EQ(a->stateHash(), b->stateHash());
     // The linearised step is off the nonlinear equations by much more than Newton's tolerance:
     // the test above is not trivially satisfied.
-    const Residuals r = backwardEulerResidual(setup.panel, setup.material, setup.source->state(), a->state(),
-                                                    a->settings().gravity);
+    const Residuals r = backwardEulerResidual(setup.panel, setup.material, setup.source->state(),
+                                              a->state(), a->settings().gravity);
     EXPECT_GT(r.newton, 1e-4);
 }
 
@@ -141,9 +147,10 @@ TEST(NewtonStep, StiffLargeStepConvergesWithTheLineSearch) {
     auto sim = test::cornerPinnedSheet(panel, material, settings);
     for (int i = 0; i < 10; ++i) {
         ASSERT_TRUE(sim->step(1.0 / 15.0).isOk());
-        const NewtonStats& stats = static_cast<const ImplicitEulerIntegrator&>(sim->integrator()).newtonStats();
-        EXPECT_TRUE(stats.converged) << "step " << i << ": " << stats.iterations << " iterations, residual "
-                                     << stats.relativeResidual;
+        const NewtonStats& stats =
+            static_cast<const ImplicitEulerIntegrator&>(sim->integrator()).newtonStats();
+        EXPECT_TRUE(stats.converged) << "step " << i << ": " << stats.iterations
+                                     << " iterations, residual " << stats.relativeResidual;
         if (i == 0) {
             EXPECT_GT(stats.backtracks, 0);
         }
@@ -157,10 +164,12 @@ TEST(NewtonStep, BadSettingsAreRejectedByName) {
     s.implicit.newtonIterations = 0;
     auto sim = ClothSimulation::create(mesh, ClothMaterial{}, s);
     ASSERT_FALSE(sim.isOk());
-    EXPECT_NE(sim.status().message().find("SimulationSettings.implicit.newtonIterations = 0"), std::string::npos);
+    EXPECT_NE(sim.status().message().find("SimulationSettings.implicit.newtonIterations = 0"),
+              std::string::npos);
     s = SimulationSettings{};
     s.implicit.newtonTolerance = 1.0;
     sim = ClothSimulation::create(mesh, ClothMaterial{}, s);
     ASSERT_FALSE(sim.isOk());
-    EXPECT_NE(sim.status().message().find("SimulationSettings.implicit.newtonTolerance"), std::string::npos);
+    EXPECT_NE(sim.status().message().find("SimulationSettings.implicit.newtonTolerance"),
+              std::string::npos);
 }

@@ -25,7 +25,8 @@ inline std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& 
         for (bool diamond : {true, false}) {
             std::vector<int> index((n + 1) * (n + 1), -1), next;
             const auto kept = [&](int i, int j) {
-                return diamond ? (i / step + j / step) % 2 == 0 : i % (2 * step) == 0 && j % (2 * step) == 0;
+                return diamond ? (i / step + j / step) % 2 == 0
+                               : i % (2 * step) == 0 && j % (2 * step) == 0;
             };
             for (int v : current) {
                 if (kept(v % (n + 1), v / (n + 1))) {
@@ -35,19 +36,25 @@ inline std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& 
             }
             SparseInterpolation p;
             p.sourceCount = uint32_t(next.size());
-            const auto term = [&](int i, int j) { p.terms.push_back({uint32_t(index[at(i, j)]), 0.5}); };
+            const auto term = [&](int i, int j) {
+                p.terms.push_back({uint32_t(index[at(i, j)]), 0.5});
+            };
             for (int v : current) {
                 const int i = v % (n + 1), j = v / (n + 1), s = step;
                 if (index[v] >= 0) {
                     p.terms.push_back({uint32_t(index[v]), 1.0});
                 } else if (diamond && (i / s) % 2 == 1) {
-                    term(i - s, j), term(i + s, j);
+                    term(i - s, j);
+                    term(i + s, j);
                 } else if (diamond) {
-                    term(i, j - s), term(i, j + s);
+                    term(i, j - s);
+                    term(i, j + s);
                 } else if (((i - s) / (2 * s) + (j - s) / (2 * s)) % 2 == 0) {
-                    term(i - s, j - s), term(i + s, j + s);
+                    term(i - s, j - s);
+                    term(i + s, j + s);
                 } else {
-                    term(i + s, j - s), term(i - s, j + s);
+                    term(i + s, j - s);
+                    term(i - s, j + s);
                 }
                 p.rowStart.push_back(uint32_t(p.terms.size()));
             }
@@ -65,13 +72,16 @@ inline std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& 
         for (uint32_t r = 0; r < a.rowCount(); ++r) {
             row.clear();
             for (uint32_t t = a.rowStart[r]; t < a.rowStart[r + 1]; ++t) {
-                for (uint32_t u = b.rowStart[a.terms[t].source]; u < b.rowStart[a.terms[t].source + 1]; ++u) {
+                for (uint32_t u = b.rowStart[a.terms[t].source];
+                     u < b.rowStart[a.terms[t].source + 1]; ++u) {
                     row.push_back({b.terms[u].source, a.terms[t].weight * b.terms[u].weight});
                 }
             }
-            std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.source < y.source; });
+            std::sort(row.begin(), row.end(),
+                      [](const auto& x, const auto& y) { return x.source < y.source; });
             for (const auto& t : row) {
-                if (!c.terms.empty() && c.rowStart.back() < c.terms.size() && c.terms.back().source == t.source) {
+                if (!c.terms.empty() && c.rowStart.back() < c.terms.size() &&
+                    c.terms.back().source == t.source) {
                     c.terms.back().weight += t.weight;
                 } else {
                     c.terms.push_back(t);

@@ -11,8 +11,8 @@
 namespace cc::cloth {
 
 enum class LinearSolverKind {
-    Pcg,      ///< filtered block-Jacobi PCG, warm-started from the previous step
-    Cholmod,  ///< CHOLMOD Cholesky factorisation each step (symbolic analysis kept)
+    Pcg,        ///< filtered block-Jacobi PCG, warm-started from the previous step
+    Cholmod,    ///< CHOLMOD Cholesky factorisation each step (symbolic analysis kept)
     Multigrid,  ///< filtered PCG preconditioned by a multigrid V-cycle (MultigridPcg), warm-started
 };
 
@@ -96,14 +96,15 @@ private:
     double createdEnergy(double h, const ClothState& before, const ClothState& after, double elasticBefore,
                          double& outScale);
     // Solves the filtered system of mSystem with the configured solver into inOutDv.
-    Status solveLinear(const std::vector<Vec3>& rhs, const std::vector<Vec3>& fixed, std::vector<Vec3>& inOutDv,
-                       StepStats& stats);
+    Status solveLinear(const std::vector<Vec3>& rhs, const std::vector<Vec3>& fixed,
+                       std::vector<Vec3>& inOutDv, StepStats& stats);
     // Newton iterations after the linearised solve (mDv holds its dv); leaves the constraint
     // impulse -r(dv) in mImpulse.
     Status newton(double h, const ClothState& state, StepStats& stats);
     // Phi(dv) of the Newton line search (without constant terms); outScale: the sum of its terms'
     // magnitudes, which bounds its rounding error.
-    double incrementalPotential(double h, const ClothState& state, const std::vector<Vec3>& dv, double& outScale);
+    double incrementalPotential(double h, const ClothState& state, const std::vector<Vec3>& dv,
+                                double& outScale);
     // |S r(dv)|^2; leaves r in mResidual, -r in mImpulse, f(x1) in mForces and K(x1) in mSystem.
     double newtonResidual(double h, const ClothState& state, const std::vector<Vec3>& dv);
 
@@ -113,7 +114,7 @@ private:
     Settings mSettings;
     BlockSparseMatrix mSystem;
     std::vector<Vec3> mForces, mStiffV, mRhs, mFixed, mDv, mStepStart, mScratch, mFrictionImpulse;
-    std::vector<Vec3> mImpulse;  // h f_c = A dv - b (or -r(dv) after Newton), per vertex
+    std::vector<Vec3> mImpulse;     // h f_c = A dv - b (or -r(dv) after Newton), per vertex
     BlockSparseMatrix mStiffness0;  // K0, kept for Newton's damping term
     std::vector<Vec3> mResidual, mDelta, mZero, mTrialDv, mTrialX, mVelocity1;
     std::vector<ClothState> mSaved;  // per split depth, so the hot path reuses its storage

@@ -59,11 +59,11 @@ struct MultigridSettings {
 /// A_{k+1} = P^T A_k P, computed in two stages (T = A_k P, then P^T T) with every sum in a fixed
 /// order, so the numeric products run row-parallel and bit-identically for any thread count.
 struct MultigridLevel {
-    uint32_t size = 0;                             ///< vertices (block rows)
-    std::vector<uint32_t> rowStart{0}, columns;    ///< block-CSR pattern, columns ascending
-    std::vector<uint32_t> diagonal;                ///< slot of each row's diagonal block
-    std::vector<uint32_t> colourStart{0};          ///< colour c: colourVertices[colourStart[c]..]
-    std::vector<uint32_t> colourVertices;          ///< vertices by colour, ascending within one
+    uint32_t size = 0;                           ///< vertices (block rows)
+    std::vector<uint32_t> rowStart{0}, columns;  ///< block-CSR pattern, columns ascending
+    std::vector<uint32_t> diagonal;              ///< slot of each row's diagonal block
+    std::vector<uint32_t> colourStart{0};        ///< colour c: colourVertices[colourStart[c]..]
+    std::vector<uint32_t> colourVertices;        ///< vertices by colour, ascending within one
 
     // Below: empty on the coarsest level.
     /// Prolongation from the next level: row i = sum of weight * coarse[source] over its terms.
@@ -90,10 +90,12 @@ public:
     /// Builds the hierarchy for `fine`'s pattern; an algebraic level reads `fine`'s values (and
     /// their Galerkin products) to judge coupling strength. Fails with InvalidArgument naming the
     /// bad prolongation, or when the settings are invalid.
-    static Result<MultigridHierarchy> build(const BlockSparseMatrix& fine, const MultigridSettings& settings);
+    static Result<MultigridHierarchy> build(const BlockSparseMatrix& fine,
+                                            const MultigridSettings& settings);
     /// Checks that `prolongations` chain from a level of `fineSize` vertices (see
     /// MultigridSettings::prolongations): sizes, source indices, finite weights.
-    static Status checkProlongations(uint32_t fineSize, const std::vector<SparseInterpolation>& prolongations);
+    static Status checkProlongations(uint32_t fineSize,
+                                     const std::vector<SparseInterpolation>& prolongations);
 
     /// True when `matrix` has the pattern this hierarchy was built for.
     bool matches(const BlockSparseMatrix& matrix) const;

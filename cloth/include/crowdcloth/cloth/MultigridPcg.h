@@ -49,15 +49,18 @@ public:
     /// from the matrix's, or the settings or prolongations are invalid; with NumericalFailure when
     /// the matrix is not positive definite or not finite. Not converging within
     /// settings.maxIterations is not an error: outResult.converged says so.
-    Status solve(const BlockSparseMatrix& a, const std::vector<VertexFilter>& filters, const std::vector<Vec3>& b,
-                 const std::vector<Vec3>& z, std::vector<Vec3>& inOutDv, const PcgSettings& settings,
-                 const ParallelSettings& parallel, PcgResult& outResult);
+    Status solve(const BlockSparseMatrix& a, const std::vector<VertexFilter>& filters,
+                 const std::vector<Vec3>& b, const std::vector<Vec3>& z, std::vector<Vec3>& inOutDv,
+                 const PcgSettings& settings, const ParallelSettings& parallel,
+                 PcgResult& outResult);
 
     /// Builds (if needed) the hierarchy and the coarse operators for `a` and `filters`, as solve()
     /// does first; then applyPreconditioner() may be called.
-    Status setUp(const BlockSparseMatrix& a, const std::vector<VertexFilter>& filters, const ParallelSettings& parallel);
+    Status setUp(const BlockSparseMatrix& a, const std::vector<VertexFilter>& filters,
+                 const ParallelSettings& parallel);
     /// outZ = S V(S r), the preconditioner of the last setUp() or solve() (for tests).
-    void applyPreconditioner(const std::vector<Vec3>& r, std::vector<Vec3>& outZ, const ParallelSettings& parallel);
+    void applyPreconditioner(const std::vector<Vec3>& r, std::vector<Vec3>& outZ,
+                             const ParallelSettings& parallel);
 
     /// The hierarchy of the last solve; null before the first.
     const MultigridHierarchy* hierarchy() const;
