@@ -285,7 +285,7 @@ Status ImplicitEulerIntegrator::solveOnce(double h, double fraction1, const Cons
     });
 
     ++stats.substeps;
-    if (mSettings.solver == LinearSolverKind::Pcg && !mSettings.warmStart) {
+    if (mSettings.solver != LinearSolverKind::Cholmod && !mSettings.warmStart) {
         std::fill(mDv.begin(), mDv.end(), Vec3::Zero());
     }
     if (Status s = solveLinear(mRhs, mFixed, mDv, stats); !s) return s;

@@ -444,9 +444,8 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
     auto& p = m.direction;
     auto& q = m.product;
     auto& sv = m.preconditioned;
-    const LevelState& s0 = m.levels[0];
+    LevelState& s0 = m.levels[0];
     const MultigridLevel& l0 = m.level(0);
-    LevelState& top0 = m.levels[0];
 
     // As in solveFilteredPcg: the warm guess keeps its free part and takes z on the constrained
     // one, and the tolerance is relative to |S (b - A z)|, with the unfiltered A.
@@ -469,7 +468,7 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
             ax += a.block(k) * x[a.columns()[k]].head<3>();
         }
         r[i] = padVector(f[i].project(b[i] - ax));
-        top0.rhs[i] = Impl::project(s0, i, r[i]);
+        s0.rhs[i] = Impl::project(s0, i, r[i]);
         return Eigen::Vector2d(r[i].squaredNorm(), 0.0);
     })[0];
     const double tol2 = settings.relativeTolerance * settings.relativeTolerance * rhsNorm2;
@@ -477,14 +476,17 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
     auto precondition = [&]() {
         m.vcycle(0, parallel);
         return chunkedPass(n, parallel, m.partials, [&](int64_t i) {
-            sv[i] = Impl::project(s0, i, top0.x[i]);
+            sv[i] = Impl::project(s0, i, s0.x[i]);
             return Eigen::Vector2d(r[i].dot(sv[i]), 0.0);
         })[0];
     };
-    double rho = r2 > tol2 ? precondition() : 0.0;
-    parallelFor(n, parallel, [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) p[i] = sv[i];
-    });
+    double rho = 0.0;
+    if (r2 > tol2) {
+        rho = precondition();
+        parallelFor(n, parallel, [&](int64_t i0, int64_t i1) {
+            for (int64_t i = i0; i < i1; ++i) p[i] = sv[i];
+        });
+    }
     while (r2 > tol2 && outResult.iterations < settings.maxIterations) {
         const double pq = chunkedPass(n, parallel, m.partials, [&](int64_t i) {
             Vec4 sum = Vec4::Zero();
@@ -498,7 +500,7 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
         r2 = chunkedPass(n, parallel, m.partials, [&](int64_t i) {
             x[i] += alpha * p[i];
             r[i] -= alpha * q[i];
-            top0.rhs[i] = Impl::project(s0, i, r[i]);
+            s0.rhs[i] = Impl::project(s0, i, r[i]);
             return Eigen::Vector2d(r[i].squaredNorm(), 0.0);
         })[0];
         ++outResult.iterations;

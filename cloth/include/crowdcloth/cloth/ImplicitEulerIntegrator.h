@@ -60,7 +60,7 @@ public:
         LinearSolverKind solver = LinearSolverKind::Pcg;
         PcgSettings pcg;
         MultigridSettings multigrid;  ///< the preconditioner of LinearSolverKind::Multigrid
-        bool warmStart = true;  ///< start PCG from the previous step's dv
+        bool warmStart = true;  ///< start PCG (both kinds) from the previous step's dv
         double energyTolerance = 0.01;  ///< [-] relative energy a step may create before it is split
         int maxHalvings = 6;            ///< [-] split depth limit (dt / 64); 0 = no step-size control
         /// [-] Newton iterations (linear solves) per step at most; [1, 1000]. 1 = the linearised

@@ -16,7 +16,9 @@ enum class CoarseningKind : uint8_t {
     /// Greedy maximal independent set of the strong-coupling graph in vertex order (the coarse
     /// vertices); every other vertex interpolates from its strong coarse neighbours, weighted by
     /// strength (direct interpolation, as in classical AMG: Stueben 2001, "A review of algebraic
-    /// multigrid"). On the 4-8 grids this is red-black coarsening with four-point averaging.
+    /// multigrid"). One pass is red-black coarsening on the 4-8 grids; a level takes two passes
+    /// composed (about 1/8 of the vertices above it), since the red-black level alone would cost
+    /// as much to smooth as its parent (twice the blocks per row on half the rows).
     IndependentSet,
     /// Smoothed aggregation (Vanek, Mandel & Brezina 1996; for cloth Tamstorf, Jones & McCormick
     /// 2015): aggregates of strong neighbourhoods, a piecewise-constant tentative prolongation
