@@ -51,6 +51,26 @@ void colour(MultigridLevel& level) {
     for (uint32_t v = 0; v < n; ++v) level.colourVertices[next[colourOf[v]]++] = v;
 }
 
+// The block storage in Gauss-Seidel order (MultigridLevel::storageStart).
+void store(MultigridLevel& level) {
+    const uint32_t n = level.size;
+    level.storageOf.resize(n);
+    level.storageStart.assign(1, 0);
+    level.storageColumns.clear();
+    level.sourceSlot.clear();
+    level.storageDiagonal.resize(n);
+    for (uint32_t q = 0; q < n; ++q) {
+        const uint32_t v = level.colourVertices[q];
+        level.storageOf[v] = q;
+        for (uint32_t k = level.rowStart[v]; k < level.rowStart[v + 1]; ++k) {
+            if (level.columns[k] == v) level.storageDiagonal[v] = uint32_t(level.sourceSlot.size());
+            level.storageColumns.push_back(level.columns[k]);
+            level.sourceSlot.push_back(k);
+        }
+        level.storageStart.push_back(uint32_t(level.sourceSlot.size()));
+    }
+}
+
 // Copies a prolongation into `fine`, terms merged per source and sorted, and builds its transpose.
 void setProlongation(const SparseInterpolation& p, MultigridLevel& fine) {
     fine.prolongStart.assign(1, 0);
@@ -323,6 +343,7 @@ Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fi
     for (std::size_t k = 0;; ++k) {
         MultigridLevel& level = h.mLevels[k];
         colour(level);
+        store(level);
         if (level.size <= settings.coarsestVertices) break;
         if (int(k) + 1 >= settings.maxLevels) {
             cutShort = true;
@@ -345,6 +366,13 @@ Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fi
         buildGalerkin(level, next);
         if (algebraic) values = galerkinValues(level, next, values);
         h.mLevels.push_back(std::move(next));  // `level` is not used past this point
+    }
+    // The Galerkin products write straight into the coarse levels' stored blocks.
+    for (std::size_t k = 0; k + 1 < h.mLevels.size(); ++k) {
+        const MultigridLevel& coarse = h.mLevels[k + 1];
+        std::vector<uint32_t> stored(coarse.columns.size());
+        for (uint32_t q = 0; q < coarse.sourceSlot.size(); ++q) stored[coarse.sourceSlot[q]] = q;
+        for (uint32_t& slot : h.mLevels[k].galerkinMap) slot = stored[slot];
     }
     h.mDirectCoarsest = !cutShort || h.mLevels.back().size <= kMaxDenseVertices;
     return h;

@@ -28,8 +28,9 @@ Mat3 top(const Block& b) { return b.topRows<3>(); }
 
 // The numeric data of one level, rebuilt every solve from the matrix and filters.
 struct LevelState {
-    std::vector<Block> blocks;           // S A S (Galerkin products below the finest), padded
-    std::vector<Block> inverseDiagonal;  // (S A_ii S + I - S)^-1
+    std::vector<Block> blocks;           // S A S (Galerkin products below the finest), padded,
+                                         // in the level's storage order
+    std::vector<Block> inverseDiagonal;  // (S A_ii S + I - S)^-1, by position
     std::vector<Block> product;          // T = A P for the next level's Galerkin product
     std::vector<Block> filter;           // S_i, read where constrained[i]
     std::vector<uint8_t> constrained;    // S_i != I
@@ -54,13 +55,20 @@ struct MultigridPcg::Impl {
     EIGEN_STRONG_INLINE static Vec4 project(const LevelState& s, int64_t i, const Vec4& v) {
         return s.constrained[i] ? times(s.filter[i], v) : v;
     }
-    // Row i of the level's operator S A S + (I - S) applied to x.
-    EIGEN_STRONG_INLINE Vec4 row(const MultigridLevel& l, const LevelState& s, int64_t i,
-                                 const std::vector<Vec4>& x) const {
+    // S A S x for the vertex at position q.
+    EIGEN_STRONG_INLINE static Vec4 filteredRow(const MultigridLevel& l, const LevelState& s,
+                                                int64_t q, const std::vector<Vec4>& x) {
         Vec4 sum = Vec4::Zero();
-        for (uint32_t k = l.rowStart[i]; k < l.rowStart[i + 1]; ++k)
-            sum += times(s.blocks[k], x[l.columns[k]]);
-        if (s.constrained[i]) sum += x[i] - times(s.filter[i], x[i]);
+        for (uint32_t k = l.storageStart[q]; k < l.storageStart[q + 1]; ++k)
+            sum += times(s.blocks[k], x[l.storageColumns[k]]);
+        return sum;
+    }
+    // Row (of the vertex at position q) of the level's operator S A S + (I - S) applied to x.
+    EIGEN_STRONG_INLINE static Vec4 row(const MultigridLevel& l, const LevelState& s, int64_t q,
+                                        const std::vector<Vec4>& x) {
+        Vec4 sum = filteredRow(l, s, q, x);
+        const uint32_t v = l.colourVertices[q];
+        if (s.constrained[v]) sum += x[v] - times(s.filter[v], x[v]);
         return sum;
     }
 
@@ -163,9 +171,10 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
             for (uint32_t s = fine.productStart[i]; s < fine.productStart[i + 1]; ++s)
                 fs.product[s].setZero();
             uint32_t q = fine.productMapStart[i];
-            for (uint32_t k2 = fine.rowStart[i]; k2 < fine.rowStart[i + 1]; ++k2) {
+            const uint32_t stored = fine.storageOf[i];
+            for (uint32_t k2 = fine.storageStart[stored]; k2 < fine.storageStart[stored + 1]; ++k2) {
                 const Block& b = fs.blocks[k2];
-                const uint32_t j = fine.columns[k2];
+                const uint32_t j = fine.storageColumns[k2];
                 for (uint32_t t = fine.prolongStart[j]; t < fine.prolongStart[j + 1]; ++t) {
                     fs.product[fine.productMap[q++]] += fine.prolongWeight[t] * b;
                 }
@@ -174,8 +183,9 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
     });
     parallelFor(coarse.size, par, [&](int64_t c0, int64_t c1) {
         for (int64_t c = c0; c < c1; ++c) {
-            for (uint32_t s = coarse.rowStart[c]; s < coarse.rowStart[c + 1]; ++s)
-                cs.blocks[s].setZero();
+            const uint32_t first = coarse.storageStart[coarse.storageOf[c]];
+            const uint32_t end = coarse.storageStart[coarse.storageOf[c] + 1];
+            for (uint32_t s = first; s < end; ++s) cs.blocks[s].setZero();
             uint32_t q = fine.galerkinMapStart[c];
             for (uint32_t t = fine.restrictStart[c]; t < fine.restrictStart[c + 1]; ++t) {
                 const uint32_t i = fine.restrictSource[t];
@@ -184,8 +194,8 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
                     cs.blocks[fine.galerkinMap[q++]] += w * fs.product[s];
                 }
             }
-            for (uint32_t s = coarse.rowStart[c]; s < coarse.rowStart[c + 1]; ++s) {
-                const uint32_t d = coarse.columns[s];
+            for (uint32_t s = first; s < end; ++s) {
+                const uint32_t d = coarse.storageColumns[s];
                 if (!cs.constrained[c] && !cs.constrained[d]) continue;
                 Mat3 m = top(cs.blocks[s]);
                 if (cs.constrained[c]) m = top(cs.filter[c]) * m;
@@ -199,15 +209,16 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
 Status MultigridPcg::Impl::inverseDiagonal(int k, const ParallelSettings& par) {
     const MultigridLevel& l = level(k);
     LevelState& s = levels[k];
-    parallelFor(l.size, par, [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) {
-            Mat3 d = top(s.blocks[l.diagonal[i]]);
+    parallelFor(l.size, par, [&](int64_t q0, int64_t q1) {
+        for (int64_t q = q0; q < q1; ++q) {
+            const uint32_t i = l.colourVertices[q];
+            Mat3 d = top(s.blocks[l.storageDiagonal[i]]);
             if (s.constrained[i]) d += Mat3::Identity() - top(s.filter[i]);
             // A symmetric 3x3 block is positive definite iff its leading minors are positive.
             const bool definite = d(0, 0) > 0.0 && d.topLeftCorner<2, 2>().determinant() > 0.0 &&
                                   d.determinant() > 0.0;
             s.indefinite[i] = !definite;
-            s.inverseDiagonal[i] = padBlock(definite ? Mat3(d.inverse()) : Mat3::Zero());
+            s.inverseDiagonal[q] = padBlock(definite ? Mat3(d.inverse()) : Mat3::Zero());
         }
     });
     for (uint32_t i = 0; i < l.size; ++i) {
@@ -227,9 +238,10 @@ Status MultigridPcg::Impl::factorCoarsest() {
     const LevelState& s = levels[last()];
     const std::size_t m = 3 * std::size_t(l.size);
     std::fill(dense.begin(), dense.end(), 0.0);
-    for (uint32_t i = 0; i < l.size; ++i) {
-        for (uint32_t k = l.rowStart[i]; k < l.rowStart[i + 1]; ++k) {
-            const std::size_t j = l.columns[k];
+    for (uint32_t q = 0; q < l.size; ++q) {
+        const uint32_t i = l.colourVertices[q];
+        for (uint32_t k = l.storageStart[q]; k < l.storageStart[q + 1]; ++k) {
+            const std::size_t j = l.storageColumns[k];
             for (int r = 0; r < 3; ++r) {
                 for (int c = 0; c < 3; ++c) dense[(3 * i + r) * m + 3 * j + c] = s.blocks[k](r, c);
             }
@@ -278,15 +290,17 @@ Status MultigridPcg::Impl::setUp(const BlockSparseMatrix& a, const std::vector<V
         }
     });
     // S A S on the finest level; only rows and columns of constrained vertices change.
-    parallelFor(l0.size, par, [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i) {
+    parallelFor(l0.size, par, [&](int64_t q0, int64_t q1) {
+        for (int64_t q = q0; q < q1; ++q) {
+            const uint32_t i = l0.colourVertices[q];
             const Mat3 si = f[i].matrix();
-            for (uint32_t k = l0.rowStart[i]; k < l0.rowStart[i + 1]; ++k) {
-                const uint32_t j = l0.columns[k];
+            for (uint32_t k = l0.storageStart[q]; k < l0.storageStart[q + 1]; ++k) {
+                const uint32_t j = l0.storageColumns[k];
+                const Mat3& block = a.block(l0.sourceSlot[k]);
                 if (!s0.constrained[i] && !s0.constrained[j]) {
-                    s0.blocks[k] = padBlock(a.block(k));
+                    s0.blocks[k] = padBlock(block);
                 } else {
-                    s0.blocks[k] = padBlock(si * a.block(k) * f[j].matrix());
+                    s0.blocks[k] = padBlock(si * block * f[j].matrix());
                 }
             }
         }
@@ -312,7 +326,7 @@ void MultigridPcg::Impl::smooth(int k, bool forward, const ParallelSettings& par
         parallelFor(l.colourStart[c + 1] - first, par, [&](int64_t b, int64_t e) {
             for (int64_t q = first + b; q < first + e; ++q) {
                 const uint32_t v = l.colourVertices[q];
-                s.x[v] += times(s.inverseDiagonal[v], s.rhs[v] - row(l, s, v, s.x));
+                s.x[v] += times(s.inverseDiagonal[q], s.rhs[v] - row(l, s, q, s.x));
             }
         });
     }
@@ -360,9 +374,11 @@ void MultigridPcg::Impl::vcycle(int k, const ParallelSettings& par) {
     LevelState& cs = levels[k + 1];
     std::fill(s.x.begin(), s.x.end(), Vec4::Zero());
     for (int sweep = 0; sweep < settings.smoothingSweeps; ++sweep) smooth(k, true, par);
-    parallelFor(l.size, par, [&](int64_t i0, int64_t i1) {
-        for (int64_t i = i0; i < i1; ++i)
-            s.residual[i] = project(s, i, s.rhs[i] - row(l, s, i, s.x));
+    parallelFor(l.size, par, [&](int64_t q0, int64_t q1) {
+        for (int64_t q = q0; q < q1; ++q) {
+            const uint32_t i = l.colourVertices[q];
+            s.residual[i] = project(s, i, s.rhs[i] - row(l, s, q, s.x));
+        }
     });
     parallelFor(level(k + 1).size, par, [&](int64_t c0, int64_t c1) {
         for (int64_t c = c0; c < c1; ++c) {
@@ -488,11 +504,10 @@ Status MultigridPcg::solve(const BlockSparseMatrix& a, const std::vector<VertexF
         });
     }
     while (r2 > tol2 && outResult.iterations < settings.maxIterations) {
-        const double pq = chunkedPass(n, parallel, m.partials, [&](int64_t i) {
-            Vec4 sum = Vec4::Zero();
-            for (uint32_t k = l0.rowStart[i]; k < l0.rowStart[i + 1]; ++k)
-                sum += times(s0.blocks[k], p[l0.columns[k]]);
-            q[i] = Impl::project(s0, i, sum);
+        // q = S A S p, row by row in the storage order (and p . q summed in that order).
+        const double pq = chunkedPass(n, parallel, m.partials, [&](int64_t position) {
+            const uint32_t i = l0.colourVertices[position];
+            q[i] = Impl::project(s0, i, Impl::filteredRow(l0, s0, position, p));
             return Eigen::Vector2d(p[i].dot(q[i]), 0.0);
         })[0];
         if (!(pq > 0.0) || !(rho > 0.0)) break;  // no curvature left (or not SPD): nothing to gain

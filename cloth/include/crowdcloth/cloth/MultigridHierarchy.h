@@ -66,6 +66,15 @@ struct MultigridLevel {
     std::vector<uint32_t> diagonal;              ///< slot of each row's diagonal block
     std::vector<uint32_t> colourStart{0};        ///< colour c: colourVertices[colourStart[c]..]
     std::vector<uint32_t> colourVertices;        ///< vertices by colour, ascending within one
+    /// The numeric blocks are stored in Gauss-Seidel order: the rows of colourVertices one after
+    /// another (position q holds vertex colourVertices[q]), each with its columns ascending, so
+    /// a sweep reads them sequentially (2x faster at 129^2 than visiting the rows of the
+    /// vertex-ordered matrix colour by colour).
+    std::vector<uint32_t> storageStart{0};  ///< per position, its first stored block
+    std::vector<uint32_t> storageColumns;   ///< column (vertex) of each stored block
+    std::vector<uint32_t> sourceSlot;       ///< the pattern slot each stored block holds
+    std::vector<uint32_t> storageOf;        ///< position of each vertex
+    std::vector<uint32_t> storageDiagonal;  ///< stored slot of each vertex's diagonal block
 
     // Below: empty on the coarsest level.
     /// Prolongation from the next level: row i = sum of weight * coarse[source] over its terms.
@@ -80,7 +89,8 @@ struct MultigridLevel {
     /// order): the T slot it adds to. Row i's entries start at productMapStart[i].
     std::vector<uint32_t> productMapStart{0}, productMap;
     /// Per coarse row c, for each restriction term (i, w) and each T slot of row i (in that
-    /// order): the coarse slot it adds to. Row c's entries start at galerkinMapStart[c].
+    /// order): the coarse level's stored slot it adds to. Row c's entries start at
+    /// galerkinMapStart[c].
     std::vector<uint32_t> galerkinMapStart{0}, galerkinMap;
 };
 
