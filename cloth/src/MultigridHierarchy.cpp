@@ -270,6 +270,10 @@ Status MultigridSettings::validate() const {
         return Status::invalidArgument("MultigridSettings.coarsestVertices = " +
                                        std::to_string(coarsestVertices) + " is outside [1, 512]");
     }
+    if (!(minCoarsening >= 1.0 && minCoarsening <= 16.0)) {
+        return Status::invalidArgument("MultigridSettings.minCoarsening = " +
+                                       std::to_string(minCoarsening) + " is outside [1, 16]");
+    }
     if (maxLevels < 2 || maxLevels > 32) {
         return Status::invalidArgument(
             "MultigridSettings.maxLevels = " + std::to_string(maxLevels) + " is outside [2, 32]");
@@ -340,6 +344,7 @@ Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fi
     }
 
     bool cutShort = false;
+    std::size_t given = 0;  // handed-in prolongations used so far
     for (std::size_t k = 0;; ++k) {
         MultigridLevel& level = h.mLevels[k];
         colour(level);
@@ -350,9 +355,13 @@ Result<MultigridHierarchy> MultigridHierarchy::build(const BlockSparseMatrix& fi
             break;
         }
         SparseInterpolation p;
-        const bool given = k < settings.prolongations.size();
-        if (given) {
-            p = settings.prolongations[k];
+        if (given < settings.prolongations.size()) {
+            // A handed-in level that coarsens too little is merged with the ones below it.
+            p = settings.prolongations[given++];
+            while (given < settings.prolongations.size() && p.sourceCount > 0 &&
+                   double(level.size) < settings.minCoarsening * double(p.sourceCount)) {
+                p = detail::compose(p, settings.prolongations[given++]);
+            }
         } else {
             p = algebraicProlongation(level, values, settings);
             if (p.sourceCount > kStalledCoarsening * level.size) {

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <algorithm>
 #include <vector>
 
 #include "crowdcloth/core/RectanglePanel.h"
@@ -12,9 +11,8 @@ namespace cc::test {
 /// per side, finest first, as lod/ would hand it to the multigrid solver: a Union Jack level
 /// drops its valence-4 vertices (each the midpoint of the axis edge along its odd coordinate), a
 /// diamond level drops the centres of the coarse squares (each the midpoint of that square's
-/// diagonal, which alternates like RectanglePanel's). `pairs` composes two 4-8 levels into one
-/// (coarsening by four).
-inline std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& panel, bool pairs) {
+/// diagonal, which alternates like RectanglePanel's).
+inline std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& panel) {
     const int n = int(panel.columns);  // squares per side, a power of two
     const auto at = [&](int i, int j) { return j * (n + 1) + i; };
     std::vector<int> current;  // grid points of the current level, in its vertex order
@@ -62,36 +60,7 @@ inline std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& 
             current = std::move(next);
         }
     }
-    if (!pairs) return levels;
-    std::vector<SparseInterpolation> composed;
-    for (std::size_t k = 0; k + 1 < levels.size(); k += 2) {
-        const SparseInterpolation &a = levels[k], &b = levels[k + 1];
-        SparseInterpolation c;
-        c.sourceCount = b.sourceCount;
-        std::vector<SparseInterpolation::Term> row;
-        for (uint32_t r = 0; r < a.rowCount(); ++r) {
-            row.clear();
-            for (uint32_t t = a.rowStart[r]; t < a.rowStart[r + 1]; ++t) {
-                for (uint32_t u = b.rowStart[a.terms[t].source];
-                     u < b.rowStart[a.terms[t].source + 1]; ++u) {
-                    row.push_back({b.terms[u].source, a.terms[t].weight * b.terms[u].weight});
-                }
-            }
-            std::sort(row.begin(), row.end(),
-                      [](const auto& x, const auto& y) { return x.source < y.source; });
-            for (const auto& t : row) {
-                if (!c.terms.empty() && c.rowStart.back() < c.terms.size() &&
-                    c.terms.back().source == t.source) {
-                    c.terms.back().weight += t.weight;
-                } else {
-                    c.terms.push_back(t);
-                }
-            }
-            c.rowStart.push_back(uint32_t(c.terms.size()));
-        }
-        composed.push_back(std::move(c));
-    }
-    return composed;
+    return levels;
 }
 
 } // namespace cc::test
