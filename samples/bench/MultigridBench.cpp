@@ -154,7 +154,7 @@ bool runMultigridReport(std::FILE* out) {
         "\nMultigrid vs block-Jacobi PCG: one implicit step of the warmed-up sheet (%d steps of "
         "1/60 s), 1 thread, mean of %d steps\n",
         kWarmupSteps, kTimedSteps);
-    std::fprintf(out, "  %-8s %-38s %9s %10s %7s %14s\n", "vertices", "solver", "it/step",
+    std::fprintf(out, "  %-8s %-42s %9s %10s %7s %14s\n", "vertices", "solver", "it/step",
                  "ms/step", "levels", "op.complexity");
     const Variant variants[] = {Variant::Jacobi, Variant::IndependentSet,
                                 Variant::SmoothedAggregation, Variant::Grid48,
@@ -176,11 +176,11 @@ bool runMultigridReport(std::FILE* out) {
             if (v == Variant::IndependentSet) multigrid[r] = m;
             const std::string size = std::to_string(n) + "^2";
             if (!m.ok) {
-                std::fprintf(out, "  %-8s %-38s failed\n", size.c_str(), variantName(v));
+                std::fprintf(out, "  %-8s %-42s failed\n", size.c_str(), variantName(v));
                 ok = false;
                 continue;
             }
-            std::fprintf(out, "  %-8s %-38s %9.1f %10.2f", size.c_str(), variantName(v),
+            std::fprintf(out, "  %-8s %-42s %9.1f %10.2f", size.c_str(), variantName(v),
                          m.iterations, m.milliseconds);
             if (m.levels > 0) std::fprintf(out, " %7d %14.2f", m.levels, m.operatorComplexity);
             std::fprintf(out, "\n");
