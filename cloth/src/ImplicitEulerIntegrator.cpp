@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace cc::cloth {
 
-ImplicitEulerIntegrator::ImplicitEulerIntegrator(ForceModel& model,
-                                                 const IntegratorSettings& common,
+ImplicitEulerIntegrator::ImplicitEulerIntegrator(ForceModel& model, const IntegratorSettings& common,
                                                  const Settings& settings)
     : mModel(model), mCommon(common), mSettings(settings), mMultigrid(settings.multigrid) {
     std::vector<std::pair<uint32_t, uint32_t>> couplings;
@@ -200,7 +200,7 @@ Status ImplicitEulerIntegrator::newton(double h, const ClothState& state, StepSt
         // decrease asked for is below Phi's rounding noise (n eps scale), Phi cannot tell; then
         // the full step is taken if it lowers the residual, else Newton stops where it is.
         constexpr int kMaxBacktracks = 30;
-        const double noise = double(n) * 2.2e-16 * scale;
+        const double noise = double(n) * std::numeric_limits<double>::epsilon() * scale;
         bool accepted = false;
         double alpha = 1.0;
         for (int t = 0; t < kMaxBacktracks && !accepted; ++t, alpha *= 0.5) {

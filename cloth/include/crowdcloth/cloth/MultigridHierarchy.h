@@ -42,8 +42,9 @@ struct MultigridSettings {
     /// 15-25% faster per step on the bench's grids (MultigridBench.cpp).
     double minCoarsening = 3.0;
     /// How levels below the handed-in prolongations are built. Default IndependentSet: on the
-    /// bench's 4-8 grids it needs fewer iterations and less time than smoothed aggregation (see
-    /// MultigridBench.cpp for the measurement).
+    /// bench's 4-8 grids it needs fewer iterations and less time than smoothed aggregation (6.7
+    /// against 9.0 iterations, 66 against 77 ms per step at 129^2, one thread) and matches the
+    /// handed-in 4-8 levels paired (7.0 iterations, 68 ms); MultigridBench.cpp measures them.
     CoarseningKind coarsening = CoarseningKind::IndependentSet;
     /// [-] coupling i-j is strong when |A_ij|_F >= threshold * sqrt(|A_ii|_F |A_jj|_F); [0, 1).
     /// 0.1 keeps the stretch and shear couplings of cloth and drops the bending ones.
