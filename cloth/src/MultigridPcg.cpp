@@ -23,6 +23,11 @@ using detail::Vec4;
 // (every supporting vertex pinned, or contacts with one plane) fall below it; partial ones keep
 // the direction, which stays correct and merely coarsens less well.
 constexpr double kLostDirection = 1e-8;
+// Cholesky pivots of the coarsest operator relative to their diagonal entry: below kNullPivot
+// the pivot is rounding noise of a null direction; below -kIndefinitePivot the operator is not
+// positive semi-definite.
+constexpr double kNullPivot = 1e-12;
+constexpr double kIndefinitePivot = 1e-8;
 
 Mat3 top(const Block& b) { return b.topRows<3>(); }
 
@@ -254,13 +259,23 @@ Status MultigridPcg::Impl::factorCoarsest() {
         }
     }
     for (std::size_t j = 0; j < m; ++j) {
-        double d = dense[j * m + j];
+        const double diagonal = dense[j * m + j];
+        double d = diagonal;
         for (std::size_t p = 0; p < j; ++p) d -= dense[j * m + p] * dense[j * m + p];
-        if (!(d > 0.0) || !std::isfinite(d)) {
+        if (!std::isfinite(d) || !(diagonal > 0.0) || d < -kIndefinitePivot * diagonal) {
             return Status::error(
                 StatusCode::NumericalFailure,
                 "MultigridPcg: the coarsest operator is not positive definite (row " +
                     std::to_string(j) + ")");
+        }
+        if (d <= kNullPivot * diagonal) {
+            // A direction of the coarse null space: coarse vertices whose filtered fine supports
+            // together span less than they do (a sheet lying on one plane but for a few free
+            // vertices). P' maps it to zero, so the pivot's value cannot change the correction;
+            // the diagonal entry as the pivot, on its own, keeps the factor definite.
+            dense[j * m + j] = std::sqrt(diagonal);
+            for (std::size_t i = j + 1; i < m; ++i) dense[i * m + j] = 0.0;
+            continue;
         }
         const double root = std::sqrt(d);
         dense[j * m + j] = root;
