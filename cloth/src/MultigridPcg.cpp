@@ -177,7 +177,8 @@ void MultigridPcg::Impl::galerkin(int k, const ParallelSettings& par) {
                 fs.product[s].setZero();
             uint32_t q = fine.productMapStart[i];
             const uint32_t stored = fine.storageOf[i];
-            for (uint32_t k2 = fine.storageStart[stored]; k2 < fine.storageStart[stored + 1]; ++k2) {
+            for (uint32_t k2 = fine.storageStart[stored]; k2 < fine.storageStart[stored + 1];
+                 ++k2) {
                 const Block& b = fs.blocks[k2];
                 const uint32_t j = fine.storageColumns[k2];
                 for (uint32_t t = fine.prolongStart[j]; t < fine.prolongStart[j + 1]; ++t) {

@@ -152,7 +152,8 @@ TEST(MultigridPcg, SheetOnOnePlaneWithFewFreeVerticesGivesCholmodsAnswer) {
     pcg.relativeTolerance = 1e-10;
     std::vector<Vec3> dv(system.z.size(), Vec3::Zero()), exact(system.z.size());
     PcgResult result;
-    const Status s = mg.solve(system.matrix(), system.filters, system.b, system.z, dv, pcg, {}, result);
+    const Status s =
+        mg.solve(system.matrix(), system.filters, system.b, system.z, dv, pcg, {}, result);
     ASSERT_TRUE(s.isOk()) << s.message();
     EXPECT_TRUE(result.converged);
     CholmodSolver cholmod;
