@@ -8,8 +8,36 @@
 
 namespace cc::cloth {
 
+const char* integratorKindName(IntegratorKind kind) {
+    switch (kind) {
+    case IntegratorKind::SymplecticEuler: return "symplectic-euler";
+    case IntegratorKind::ImplicitPcg: return "implicit-pcg";
+    case IntegratorKind::ImplicitCholmod: return "implicit-cholmod";
+    case IntegratorKind::ImplicitMultigrid: return "implicit-multigrid";
+    }
+    return "unknown";
+}
+
 Status SimulationSettings::validate() const {
     if (!isFinite(gravity)) return Status::invalidArgument("SimulationSettings.gravity is not finite");
+    if (int(integrator) < 0 || int(integrator) > int(IntegratorKind::ImplicitMultigrid)) {
+        return Status::invalidArgument(
+            "SimulationSettings.integrator = " + std::to_string(int(integrator)) +
+            " is not an IntegratorKind");
+    }
+    if (implicit.newtonIterations < 1 || implicit.newtonIterations > 1000) {
+        return Status::invalidArgument("SimulationSettings.implicit.newtonIterations = " +
+                                       std::to_string(implicit.newtonIterations) +
+                                       " is outside [1, 1000]");
+    }
+    if (!(implicit.newtonTolerance >= 0.0 && implicit.newtonTolerance < 1.0)) {
+        return Status::invalidArgument("SimulationSettings.implicit.newtonTolerance = " +
+                                       std::to_string(implicit.newtonTolerance) +
+                                       " is outside [0, 1)");
+    }
+    if (Status s = implicit.multigrid.validate(); !s) {
+        return Status::invalidArgument("SimulationSettings.implicit.multigrid: " + s.message());
+    }
     const auto& pcg = implicit.pcg;
     if (!(pcg.relativeTolerance > 0.0 && pcg.relativeTolerance < 1.0)) {
         return Status::invalidArgument("SimulationSettings.implicit.pcg.relativeTolerance = " +
@@ -96,8 +124,19 @@ Status ClothSimulation::init(std::unique_ptr<ForceModel> model, double damping) 
         mIntegrator = std::make_unique<SymplecticEulerIntegrator>(*mModel, common, mSettings.explicitEuler);
     } else {
         ImplicitEulerIntegrator::Settings implicit = mSettings.implicit;
-        implicit.solver = mSettings.integrator == IntegratorKind::ImplicitPcg ? LinearSolverKind::Pcg
-                                                                              : LinearSolverKind::Cholmod;
+        implicit.solver =
+            mSettings.integrator == IntegratorKind::ImplicitPcg       ? LinearSolverKind::Pcg
+            : mSettings.integrator == IntegratorKind::ImplicitCholmod ? LinearSolverKind::Cholmod
+                                                                      : LinearSolverKind::Multigrid;
+        if (implicit.solver == LinearSolverKind::Multigrid) {
+            // Checked here so that a bad hierarchy fails create(), not the first step.
+            const Status s = MultigridHierarchy::checkProlongations(
+                mModel->vertexCount(), implicit.multigrid.prolongations);
+            if (!s) {
+                return Status::invalidArgument("SimulationSettings.implicit.multigrid: " +
+                                               s.message());
+            }
+        }
         mIntegrator = std::make_unique<ImplicitEulerIntegrator>(*mModel, common, implicit);
     }
     return Status::ok();

@@ -33,6 +33,7 @@ const char* integratorName(IntegratorKind kind) {
     case IntegratorKind::SymplecticEuler: return "Explicit";
     case IntegratorKind::ImplicitPcg: return "ImplicitPcg";
     case IntegratorKind::ImplicitCholmod: return "ImplicitCholmod";
+    case IntegratorKind::ImplicitMultigrid: return "ImplicitMultigrid";
     }
     return "?";
 }

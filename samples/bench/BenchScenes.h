@@ -1,6 +1,6 @@
 #pragma once
 
-// The one scene every benchmark and the quality comparison share, for crowdcloth and for Bullet:
+// The one scene every benchmark and the solver front share, for crowdcloth and for Bullet:
 // a 1 m x 1 m patch of N x N vertices lying flat at 1 m height, pinned at the two corners of its
 // far edge (v = max), falling under gravity in 1/60 s steps.
 //

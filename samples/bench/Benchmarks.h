@@ -4,6 +4,7 @@
 
 #include "BenchScenes.h"
 
+#include <cstdio>
 #include <string>
 
 namespace cc::bench {
@@ -14,6 +15,8 @@ void registerStepBenchmarks();
 void registerPcgSolveBenchmarks();
 /// STREAM triad out of DRAM and out of L3, on 1 and on all threads (BandwidthBench.cpp).
 void registerBandwidthBenchmarks();
+/// Multigrid vs block-Jacobi PCG per resolution and the BAR line (MultigridBench.cpp).
+bool runMultigridReport(std::FILE* out);
 
 constexpr int kPcgSolveResolution = 65;  ///< vertices per side of the PcgSolve system
 constexpr int kPcgSolveIterations = 50;  ///< fixed CG iterations per solve

@@ -3,7 +3,7 @@
 // of each setup, the PCG solve alone, memory bandwidth) and a summary that combines them.
 //
 // Usage: cc_bench [--front-only | --skip-front] [--front-resolutions=17,33,65] [--with-129-reference]
-//                 [Google Benchmark flags]
+//                 [--multigrid-only] [Google Benchmark flags]
 //   e.g. cc_bench --skip-front --benchmark_filter='Step/.*/65' --benchmark_min_time=0.05
 // Our tables and BAR lines go to stdout; for machine-readable Google Benchmark results use
 // --benchmark_out=FILE --benchmark_out_format=json.
@@ -27,13 +27,14 @@ namespace {
 void printHelp() {
     std::printf(
         "cc_bench [--front-only | --skip-front] [--front-resolutions=LIST] [--with-129-reference]\n"
-        "         [benchmark flags]\n"
+        "         [--multigrid-only] [benchmark flags]\n"
         "  --front-only            run the solver front only (ms, strain, error against the\n"
         "                          converged reference, sag; the BAR solver65 line)\n"
         "  --skip-front            run the Google Benchmark cases only\n"
         "  --front-resolutions=L   comma-separated vertices per side (default 17,33,65,129)\n"
         "  --with-129-reference    also measure the error at 129^2 (its reference takes ~10 min\n"
-        "                          the first time; cached in ./cc_bench_cache)\n\n");
+        "                          the first time; cached in ./cc_bench_cache)\n"
+        "  --multigrid-only        multigrid vs block-Jacobi PCG per resolution, then exit (< 1 min)\n\n");
     benchmark::PrintDefaultHelp();
 }
 
@@ -49,7 +50,7 @@ std::vector<int> parseList(const char* text) {
 
 int main(int argc, char** argv) {
     // Take our own flags out before Benchmark parses the rest (it rejects unknown ones).
-    bool frontOnly = false, skipFront = false;
+    bool frontOnly = false, skipFront = false, multigridOnly = false;
     cc::bench::SolverFrontOptions front;
     int kept = 1;
     for (int i = 1; i < argc; ++i) {
@@ -61,6 +62,8 @@ int main(int argc, char** argv) {
             front.resolutions = parseList(argv[i] + 20);
         } else if (std::strcmp(argv[i], "--with-129-reference") == 0) {
             front.referenceResolutions.push_back(129);
+        } else if (std::strcmp(argv[i], "--multigrid-only") == 0) {
+            multigridOnly = true;
         } else {
             argv[kept++] = argv[i];
         }
@@ -82,9 +85,11 @@ int main(int argc, char** argv) {
 
     cc::bench::printMachineHeader(stdout);
     std::printf("  peer       %s, single-threaded\n", cc::bench::bulletDescription().c_str());
+    if (multigridOnly) return cc::bench::runMultigridReport(stdout) ? 0 : 1;
     bool ok = true;
     if (!skipFront) ok = cc::bench::runSolverFront(stdout, front);
     if (frontOnly) return ok ? 0 : 1;
+    ok = cc::bench::runMultigridReport(stdout) && ok;
 
     cc::bench::registerStepBenchmarks();
     cc::bench::registerPcgSolveBenchmarks();

@@ -42,6 +42,7 @@ TEST(Determinism, ThreadCountDoesNotChangeTheResult) {
     } cases[] = {{ForceModelKind::Continuum, IntegratorKind::ImplicitPcg},
                  {ForceModelKind::MassSpring, IntegratorKind::ImplicitPcg},
                  {ForceModelKind::Continuum, IntegratorKind::ImplicitCholmod},
+                 {ForceModelKind::Continuum, IntegratorKind::ImplicitMultigrid},
                  {ForceModelKind::MassSpring, IntegratorKind::SymplecticEuler}};
     for (const auto& c : cases) {
         const auto serial = hashes(c.model, c.integrator, 1);

@@ -10,7 +10,8 @@ namespace cc::test {
 /// Every integrator, for tests that must hold for all of them.
 constexpr cloth::IntegratorKind kAllIntegrators[] = {cloth::IntegratorKind::SymplecticEuler,
                                                      cloth::IntegratorKind::ImplicitPcg,
-                                                     cloth::IntegratorKind::ImplicitCholmod};
+                                                     cloth::IntegratorKind::ImplicitCholmod,
+                                                     cloth::IntegratorKind::ImplicitMultigrid};
 
 /// A square sheet of side 1 m with `squares` grid squares per side, lying horizontal at height 1 m
 /// (pattern v along +Z), ready to be pinned.

@@ -14,7 +14,16 @@
 namespace cc::cloth {
 
 enum class ForceModelKind { MassSpring, Continuum };
-enum class IntegratorKind { SymplecticEuler, ImplicitPcg, ImplicitCholmod };
+enum class IntegratorKind {
+    SymplecticEuler,    ///< explicit, stability-bounded substeps (SymplecticEulerIntegrator)
+    ImplicitPcg,        ///< implicit Euler, block-Jacobi filtered PCG
+    ImplicitCholmod,    ///< implicit Euler, CHOLMOD
+    ImplicitMultigrid,  ///< implicit Euler, multigrid-preconditioned filtered PCG (MultigridPcg)
+};
+
+/// "symplectic-euler", "implicit-pcg", "implicit-cholmod", "implicit-multigrid"; "unknown" for a
+/// value outside the enum.
+const char* integratorKindName(IntegratorKind kind);
 
 /// Everything that chooses how one garment is simulated. Defaults are the accurate implicit setup.
 struct SimulationSettings {
