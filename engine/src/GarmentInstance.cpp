@@ -287,6 +287,8 @@ void GarmentInstance::publish(const CharacterInstance& character, bool stateChan
             normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitY();
         }
     }
+    mPublishedPosition = character.position;
+    mPublishedYaw = character.yaw;
     const Mat3 rotation = character.rotation();
     const std::size_t n = mLocalRender.size();
     mRenderPositions.resize(3 * n);
@@ -299,6 +301,11 @@ void GarmentInstance::publish(const CharacterInstance& character, bool stateChan
             mRenderNormals[3 * r + k] = float(normal[k]);
         }
     }
+}
+
+void GarmentInstance::follow(const CharacterInstance& character) {
+    if (character.position == mPublishedPosition && character.yaw == mPublishedYaw) return;
+    publish(character, false);
 }
 
 RenderMeshView GarmentInstance::renderView() const {

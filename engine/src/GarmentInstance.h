@@ -83,6 +83,10 @@ public:
     /// Writes the world-space render mesh (positions and normals as floats); `stateChanged` says
     /// whether the simulation moved since the last publish.
     void publish(const CharacterInstance& character, bool stateChanged);
+    /// Moves an unchanged render mesh to where its character is now, if it was published elsewhere
+    /// (a garment that sleeps or is unseen is not republished every frame; its character may
+    /// still walk or be placed). Cheap when nothing moved.
+    void follow(const CharacterInstance& character);
 
     RenderMeshView renderView() const;
     /// Kinetic energy per unit mass [J/kg]: the garment sleeps when this is tiny and unseen.
@@ -114,6 +118,8 @@ private:
     std::vector<Vec3> mLocalRender;         ///< render positions in the character's frame
     std::vector<Vec3> mNormals;
     std::vector<float> mRenderPositions, mRenderNormals;
+    Vec3 mPublishedPosition = Vec3::Zero();  ///< the character root the render mesh was placed at
+    double mPublishedYaw = 0.0;
     collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
     std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update

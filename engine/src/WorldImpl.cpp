@@ -515,8 +515,11 @@ Status WorldImpl::step(double dt) {
 }
 
 Result<RenderMeshView> WorldImpl::renderMesh(GarmentId id) const {
-    const GarmentInstance* g = mGarments.get(id);
+    GarmentInstance* g = mGarments.get(id);
     if (!g) return staleHandle("garment");
+    // Unseen and sleeping garments are not republished every frame: carry this one to its
+    // character's place now, when the host asks for it.
+    if (const CharacterInstance* c = mCharacters.get(g->character())) g->follow(*c);
     return g->renderView();
 }
 

@@ -466,3 +466,30 @@ TEST(SubstepExtremes, MassRatioOfAMillionKeepsTheExactEquilibrium) {
         EXPECT_NEAR(length - rest, expected, 1e-6 * expected) << "spring " << j;
     }
 }
+
+#include "support/AllocationCounter.h"
+
+TEST(SubstepSolver, AWarmWorkspaceAllocatesNothing) {
+    // After the first call sizes the workspace, stepping (with contacts, the strain limit and a
+    // batch of three) touches no heap: the crowd's hot path.
+    for (SubstepMethod method : {SubstepMethod::Newton, SubstepMethod::LocalGlobal}) {
+        Batch b(3, method);
+        b.step({0, 1, 2}, 2);  // warm-up: sizes the workspace
+        SubstepWorkspace work;
+        std::vector<SubstepLane> lanes;
+        for (int l = 0; l < 3; ++l) {
+            SubstepLane lane;
+            lane.positions = b.positions[l];
+            lane.velocities = b.velocities[l];
+            lane.targets = b.targets[l];
+            lane.contacts = b.contacts[l];
+            lanes.push_back(lane);
+        }
+        std::vector<SubstepLaneReport> reports(lanes.size());
+        ASSERT_TRUE(stepSubsteps(*b.level, *b.factor, 1.0 / 60.0, b.settings, lanes, work, reports).isOk());
+        const long before = test::allocationCount();
+        for (int s = 0; s < 10; ++s)
+            ASSERT_TRUE(stepSubsteps(*b.level, *b.factor, 1.0 / 60.0, b.settings, lanes, work, reports).isOk());
+        EXPECT_EQ(test::allocationCount() - before, 0) << "method " << int(method);
+    }
+}
