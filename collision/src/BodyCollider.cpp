@@ -125,20 +125,23 @@ Status BodyCollider::Impl::checkPose(Span<const Vec3> positions, const char* wha
 void BodyCollider::Impl::computeNormals() {
     const uint32_t nt = uint32_t(triangles.size());
     stats.degenerateTriangles = 0;
+    const double limit2 = 4.0 * settings.degenerateArea * settings.degenerateArea;
     for (uint32_t t = 0; t < nt; ++t) {
         const auto& tri = triangles[t];
-        const Vec3 e[3] = {current[tri[1]] - current[tri[0]], current[tri[2]] - current[tri[1]],
-                           current[tri[0]] - current[tri[2]]};
-        const Vec3 cross = e[0].cross(-e[2]);
-        const double longest2 = std::max({e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()});
-        const bool bad = !(0.5 * cross.norm() > settings.degenerateArea * longest2) || longest2 == 0.0;
+        const Vec3 a = current[tri[0]], e0 = current[tri[1]] - a, e2 = current[tri[2]] - a;
+        const Vec3 e1 = e2 - e0;
+        const Vec3 cross = e0.cross(e2);
+        const double longest2 = std::max(std::max(e0.squaredNorm(), e1.squaredNorm()), e2.squaredNorm());
+        // Degenerate when area = |cross| / 2 <= degenerateArea * longest^2 (squared: no square roots).
+        const double cross2 = cross.squaredNorm();
+        const bool bad = !(cross2 > limit2 * longest2 * longest2) || longest2 == 0.0;
         degenerate[t] = bad;
         if (bad) {
             ++stats.degenerateTriangles;
             faceNormal[t].setZero();
             continue;
         }
-        faceNormal[t] = cross.normalized();
+        faceNormal[t] = cross / std::sqrt(cross2);
     }
     for (std::size_t g = 0; g + 1 < edgeStart.size(); ++g) {
         Vec3 sum = Vec3::Zero();

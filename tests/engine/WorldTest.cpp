@@ -149,6 +149,41 @@ TEST(World, StateHashIsTheSameForAnyThreadCount) {
             ASSERT_EQ(hashes[t][frame], hashes[0][frame]) << (t + 1) << " threads, frame " << frame;
 }
 
+TEST(World, StateHashDoesNotDependOnHowGarmentsAreBatched) {
+    // Garments of one asset and level step together; a garment's result is bit for bit the same
+    // alone, in a batch of four or of eight, and so is the whole crowd's (issue 9).
+    std::vector<std::vector<uint64_t>> hashes;
+    for (uint32_t batch : {1u, 3u, 4u, 8u}) {
+        WorldDesc desc;
+        desc.maxThreads = 2;
+        desc.budgetThreads = 2;
+        desc.frameBudgetMs = 2.0;
+        desc.batchSize = batch;
+        WorldPtr world = makeWorld(desc);
+        ClothAssetDesc capeDesc;
+        capeDesc.levelCount = 4;
+        const AssetId cape = world->addClothAsset(capeDesc).value();
+        const auto crowd = test::addWalkingCrowd(*world, cape, 10);
+        std::vector<uint64_t> perFrame;
+        uint32_t batches = 0;
+        for (int frame = 1; frame <= 45; ++frame) {
+            const double t = frame / 60.0;
+            test::walkCrowd(*world, crowd, t);
+            followWithCamera(*world, Vec3(6.0, 1.0, -1.0 + crowd.speed * t), Vec3(-4.0, 3.0, -14.0));
+            ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+            perFrame.push_back(world->stateHash());
+            batches += world->frameStats().batches;
+        }
+        if (batch > 1) {
+            EXPECT_LT(batches, 45u * 10u) << "batches of " << batch << " really batched";
+        }
+        hashes.push_back(perFrame);
+    }
+    for (std::size_t b = 1; b < hashes.size(); ++b)
+        for (std::size_t frame = 0; frame < hashes[b].size(); ++frame)
+            ASSERT_EQ(hashes[b][frame], hashes[0][frame]) << "batch setting " << b << ", frame " << frame;
+}
+
 /// A host job system: two std::threads taking task indices from an atomic counter.
 void runOnTwoThreads(void*, uint32_t count, void (*task)(void*, uint32_t), void* context) {
     std::atomic<uint32_t> next{0};
