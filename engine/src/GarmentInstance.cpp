@@ -260,6 +260,13 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
         weldCopies(level.active, mPositions, mVelocities);
     }
     inOutReport.collisionMs += msSince(start);
+    const auto& masses = level.active.masses;
+    double mass = 0.0, energy = 0.0;
+    for (std::size_t v = 0; v < mVelocities.size(); ++v) {
+        mass += masses[v];
+        energy += 0.5 * masses[v] * mVelocities[v].squaredNorm();
+    }
+    mSpecificKineticEnergy = mass > 0.0 ? energy / mass : 0.0;
     return Status::ok();
 }
 
@@ -316,16 +323,6 @@ RenderMeshView GarmentInstance::renderView() const {
     view.indices = mRenderIndices.data();
     view.triangleCount = uint32_t(mRenderIndices.size() / 3);
     return view;
-}
-
-double GarmentInstance::specificKineticEnergy() const {
-    const auto& masses = mAsset->levels[mLevel].active.masses;
-    double mass = 0.0, energy = 0.0;
-    for (std::size_t v = 0; v < mVelocities.size(); ++v) {
-        mass += masses[v];
-        energy += 0.5 * masses[v] * mVelocities[v].squaredNorm();
-    }
-    return mass > 0.0 ? energy / mass : 0.0;
 }
 
 double GarmentInstance::maxEdgeStrain() const {

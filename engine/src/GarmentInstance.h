@@ -89,8 +89,9 @@ public:
     void follow(const CharacterInstance& character);
 
     RenderMeshView renderView() const;
-    /// Kinetic energy per unit mass [J/kg]: the garment sleeps when this is tiny and unseen.
-    double specificKineticEnergy() const;
+    /// Kinetic energy per unit mass [J/kg] after the last update: the garment sleeps when this is
+    /// tiny and unseen.
+    double specificKineticEnergy() const { return mSpecificKineticEnergy; }
     /// Largest (length / rest length - 1) over the level's strain-limited edges.
     double maxEdgeStrain() const;
     uint64_t hash() const;
@@ -120,6 +121,7 @@ private:
     std::vector<float> mRenderPositions, mRenderNormals;
     Vec3 mPublishedPosition = Vec3::Zero();  ///< the character root the render mesh was placed at
     double mPublishedYaw = 0.0;
+    double mSpecificKineticEnergy = 0.0;    ///< [J/kg] measured after each update
     collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
     std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update

@@ -384,7 +384,6 @@ Status WorldImpl::step(double dt) {
     fs.scheduleMs = msSince(phase);
 
     mUpdates.clear();
-    mPublishOnly.clear();
     const Vec3 gravity(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         GarmentInstance& g = *mItems[i].garment;
@@ -398,8 +397,6 @@ Status WorldImpl::step(double dt) {
             // the same vector there.
             g.context.acceleration = gravity;
             mUpdates.push_back(i);
-        } else if (g.schedule.visible) {
-            mPublishOnly.push_back(i);
         }
     }
 
@@ -459,22 +456,16 @@ Status WorldImpl::step(double dt) {
     }
     fs.batches = uint32_t(mBatchCount);
 
-    // 4. Simulate and publish, in parallel over batches (and the garments only carried along).
-    auto simulate = [&](uint32_t k) {
-        if (k < mBatchCount) {
-            simulateBatch(mBatches[k]);
-        } else {
-            const FrameItem& item = mItems[mPublishOnly[k - mBatchCount]];
-            item.garment->publish(*item.character, false);
-        }
-    };
-    runTasks(mBatchCount + mPublishOnly.size(), simulate);
+    // 4. Simulate and publish, in parallel over batches. A garment not updated this frame keeps
+    //    its shape in its character's frame; renderMesh() carries it to where its character is
+    //    when the host asks (most garments of a large crowd are not drawn every frame).
+    auto simulate = [&](uint32_t k) { simulateBatch(mBatches[k]); };
+    runTasks(mBatchCount, simulate);
     // A garment whose update failed keeps its state; its render mesh still follows the body.
     for (std::size_t i : mUpdates) {
         GarmentInstance& g = *mItems[i].garment;
         if (!g.stats.failed) continue;
         g.lastUpdateTime = mTime;
-        g.publish(*mItems[i].character, false);
     }
     fs.simulateMs = msSince(phase);
 

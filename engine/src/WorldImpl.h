@@ -108,7 +108,6 @@ private:
     };
     std::vector<BatchKey> mBatchKeys;
     std::size_t mBatchCount = 0;
-    std::vector<std::size_t> mPublishOnly;   ///< seen but not updated this frame
     std::map<FactorKey, std::shared_ptr<const cloth::SubstepFactor>> mFactors;
 };
 

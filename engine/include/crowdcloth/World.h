@@ -209,6 +209,10 @@ public:
     /// in its stats; the frame goes on.
     Status step(double dt);
 
+    /// The garment's render mesh in world space, valid until the next step() or removal. A
+    /// garment not updated this frame is carried to its character's current place here, on
+    /// demand (so garments that are not drawn cost nothing); calls for different garments may
+    /// run concurrently.
     Result<RenderMeshView> renderMesh(GarmentId id) const;
     /// The character's body skinned at this frame's pose, in world space (skinned on demand, for
     /// drawing and debugging; valid until the next call or step()).
