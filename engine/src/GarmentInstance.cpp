@@ -106,7 +106,7 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     g->mLevel = 0;
     g->mRenderIndices.reserve(3 * g->mAsset->renderTriangles.size());
     for (const auto& t : g->mAsset->renderTriangles) g->mRenderIndices.insert(g->mRenderIndices.end(), t.begin(), t.end());
-    g->publish(character, true);
+    g->publish(character);
     return g;
 }
 
@@ -127,7 +127,7 @@ bool GarmentInstance::switchLevel(int level) {
     if (level == mLevel) return false;
     // What is on screen now (including any fade still running from an earlier switch) is kept in
     // mMorph until the new level's render positions are known.
-    if (mLocalRender.empty()) localRenderPositions(mLocalRender);
+    refreshLocalRender();
     mMorph = mLocalRender;
     while (mLevel != level) {
         const CookedLevel& from = mAsset->levels[mLevel];
@@ -146,6 +146,7 @@ bool GarmentInstance::switchLevel(int level) {
     localRenderPositions(mLocalRender);
     for (std::size_t r = 0; r < mMorph.size(); ++r) mMorph[r] -= mLocalRender[r];
     mMorphFramesLeft = kMorphFrames;
+    mLocalDirty = true;
     return true;
 }
 
@@ -267,6 +268,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
         energy += 0.5 * masses[v] * mVelocities[v].squaredNorm();
     }
     mSpecificKineticEnergy = mass > 0.0 ? energy / mass : 0.0;
+    mLocalDirty = true;
     return Status::ok();
 }
 
@@ -274,28 +276,41 @@ void GarmentInstance::localRenderPositions(std::vector<Vec3>& out) const {
     mAsset->levels[mLevel].render.apply(mPositions, out);
 }
 
-void GarmentInstance::publish(const CharacterInstance& character, bool stateChanged) {
-    // The shape in the character's frame changes only when the garment was updated (or is still
-    // fading a level switch); otherwise the frame only moves it with its character.
-    if (stateChanged || mMorphFramesLeft > 0 || mLocalRender.empty()) {
-        localRenderPositions(mLocalRender);
-        if (mMorphFramesLeft > 0) {
-            const double fade = double(mMorphFramesLeft) / kMorphFrames;
-            for (std::size_t r = 0; r < mLocalRender.size(); ++r) mLocalRender[r] += fade * mMorph[r];
-            --mMorphFramesLeft;
-        }
-        mNormals.assign(mLocalRender.size(), Vec3::Zero());
-        for (const auto& t : mAsset->renderTriangles) {
-            const Vec3 areaNormal = (mLocalRender[t[1]] - mLocalRender[t[0]]).cross(mLocalRender[t[2]] - mLocalRender[t[0]]);
-            for (uint32_t v : t) mNormals[v] += areaNormal;  // area-weighted vertex normals
-        }
-        for (Vec3& normal : mNormals) {
-            const double len = normal.norm();
-            normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitY();
-        }
+void GarmentInstance::advanceFrame() {
+    if (mMorphFramesLeft > 0) {
+        --mMorphFramesLeft;
+        mLocalDirty = true;
     }
+}
+
+void GarmentInstance::refreshLocalRender() {
+    if (!mLocalDirty && !mLocalRender.empty()) return;
+    localRenderPositions(mLocalRender);
+    if (mMorphFramesLeft > 0) {
+        const double fade = double(mMorphFramesLeft) / kMorphFrames;
+        for (std::size_t r = 0; r < mLocalRender.size(); ++r) mLocalRender[r] += fade * mMorph[r];
+    }
+    mNormals.assign(mLocalRender.size(), Vec3::Zero());
+    for (const auto& t : mAsset->renderTriangles) {
+        const Vec3 areaNormal = (mLocalRender[t[1]] - mLocalRender[t[0]]).cross(mLocalRender[t[2]] - mLocalRender[t[0]]);
+        for (uint32_t v : t) mNormals[v] += areaNormal;  // area-weighted vertex normals
+    }
+    for (Vec3& normal : mNormals) {
+        const double len = normal.norm();
+        normal = len > 0.0 ? Vec3(normal / len) : Vec3::UnitY();
+    }
+    mLocalDirty = false;
+    mWorldDirty = true;
+}
+
+void GarmentInstance::publish(const CharacterInstance& character) {
+    refreshLocalRender();
+    if (!mWorldDirty && character.position == mPublishedPosition && character.yaw == mPublishedYaw &&
+        !mRenderPositions.empty())
+        return;
     mPublishedPosition = character.position;
     mPublishedYaw = character.yaw;
+    mWorldDirty = false;
     const Mat3 rotation = character.rotation();
     const std::size_t n = mLocalRender.size();
     mRenderPositions.resize(3 * n);
@@ -308,11 +323,6 @@ void GarmentInstance::publish(const CharacterInstance& character, bool stateChan
             mRenderNormals[3 * r + k] = float(normal[k]);
         }
     }
-}
-
-void GarmentInstance::follow(const CharacterInstance& character) {
-    if (character.position == mPublishedPosition && character.yaw == mPublishedYaw) return;
-    publish(character, false);
 }
 
 RenderMeshView GarmentInstance::renderView() const {

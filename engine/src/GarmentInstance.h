@@ -80,13 +80,13 @@ public:
     /// After the solve: self-collision if asked, then the body's swept and proximity corrections
     /// (and the strain limit of `strainSettings` around the vertices they pushed).
     Status finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport);
-    /// Writes the world-space render mesh (positions and normals as floats); `stateChanged` says
-    /// whether the simulation moved since the last publish.
-    void publish(const CharacterInstance& character, bool stateChanged);
-    /// Moves an unchanged render mesh to where its character is now, if it was published elsewhere
-    /// (a garment that sleeps or is unseen is not republished every frame; its character may
-    /// still walk or be placed). Cheap when nothing moved.
-    void follow(const CharacterInstance& character);
+    /// Brings the world-space render mesh (positions and normals as floats) up to date: the shape
+    /// in the character's frame is rebuilt only if the state changed (or a level switch is still
+    /// fading), the world placement only if that or the character moved. Render meshes are built
+    /// on demand (World::renderMesh): a garment nobody draws costs nothing.
+    void publish(const CharacterInstance& character);
+    /// One frame passed: a level switch's render difference fades by one step.
+    void advanceFrame();
 
     RenderMeshView renderView() const;
     /// Kinetic energy per unit mass [J/kg] after the last update: the garment sleeps when this is
@@ -100,6 +100,7 @@ private:
     GarmentInstance() = default;
     Status bindAttachments(const CharacterInstance& character);
     void localRenderPositions(std::vector<Vec3>& out) const;
+    void refreshLocalRender();
     collision::BodyContactSettings contactSettings() const;
 
     std::shared_ptr<const CookedAsset> mAsset;
@@ -122,6 +123,8 @@ private:
     Vec3 mPublishedPosition = Vec3::Zero();  ///< the character root the render mesh was placed at
     double mPublishedYaw = 0.0;
     double mSpecificKineticEnergy = 0.0;    ///< [J/kg] measured after each update
+    bool mLocalDirty = true;                ///< the state changed since mLocalRender was built
+    bool mWorldDirty = true;                ///< mLocalRender changed since the world placement
     collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
     std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update

@@ -345,7 +345,6 @@ void WorldImpl::simulateBatch(Batch& batch) {
         g.stats.substeps = uint32_t(batch.settings.substeps);
         g.stats.iterations = uint32_t(batch.settings.substeps * batch.settings.iterations);
         g.lastUpdateTime = mTime;
-        g.publish(*item.character, true);
         g.stats.measuredMs += share + msSince(own);
     }
 }
@@ -387,6 +386,7 @@ Status WorldImpl::step(double dt) {
     const Vec3 gravity(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         GarmentInstance& g = *mItems[i].garment;
+        g.advanceFrame();  // before any switch this frame, which starts its fade at full
         g.stats = GarmentStats{};
         const int interval = g.schedule.updateInterval;
         // Spread garments at the same rate over the frames (by id) so the load stays even.
@@ -456,9 +456,9 @@ Status WorldImpl::step(double dt) {
     }
     fs.batches = uint32_t(mBatchCount);
 
-    // 4. Simulate and publish, in parallel over batches. A garment not updated this frame keeps
-    //    its shape in its character's frame; renderMesh() carries it to where its character is
-    //    when the host asks (most garments of a large crowd are not drawn every frame).
+    // 4. Simulate, in parallel over batches. Render meshes are built by renderMesh() when the host
+    //    asks (most garments of a large crowd are not drawn every frame; those that are can be
+    //    asked for from several threads).
     auto simulate = [&](uint32_t k) { simulateBatch(mBatches[k]); };
     runTasks(mBatchCount, simulate);
     // A garment whose update failed keeps its state; its render mesh still follows the body.
@@ -508,9 +508,8 @@ Status WorldImpl::step(double dt) {
 Result<RenderMeshView> WorldImpl::renderMesh(GarmentId id) const {
     GarmentInstance* g = mGarments.get(id);
     if (!g) return staleHandle("garment");
-    // Unseen and sleeping garments are not republished every frame: carry this one to its
-    // character's place now, when the host asks for it.
-    if (const CharacterInstance* c = mCharacters.get(g->character())) g->follow(*c);
+    // Render meshes are built when the host asks: a garment nobody draws costs nothing.
+    if (const CharacterInstance* c = mCharacters.get(g->character())) g->publish(*c);
     return g->renderView();
 }
 

@@ -39,7 +39,7 @@ TEST(LevelSwitch, AllocatesNothingOnceEveryLevelHasBeenVisited) {
             ASSERT_TRUE(g.switchLevel(level));
             EXPECT_EQ(g.level(), level);
             EXPECT_EQ(g.vertexCount(), scene.asset->levels[level].active.simToVertex.size());
-            g.publish(scene.character, true);
+            g.publish(scene.character);
         }
         EXPECT_EQ(test::allocationCount() - before, 0) << "kind " << int(kind);
     }
