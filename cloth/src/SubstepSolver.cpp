@@ -266,7 +266,7 @@ private:
         const double timeToEnd = mDt - (s + 1) * h;
         const double muS = mSettings.friction.staticCoefficient, muK = mSettings.friction.kineticCoefficient;
         for (int l = 0; l < W; ++l) {
-            for (const SubstepWorkspace::LaneContact& c : mW.contacts[l]) {
+            for (SubstepWorkspace::LaneContact& c : mW.contacts[l]) {
                 Vec3 p(at(mW.positions, c.node, 0, l), at(mW.positions, c.node, 1, l), at(mW.positions, c.node, 2, l));
                 const double offset = c.offsetAtEnd - timeToEnd * c.normal.dot(c.surfaceVelocity);
                 const double push = offset - c.normal.dot(p);
@@ -283,11 +283,26 @@ private:
                     p -= tangential * std::min(1.0, muK * push / distance);
                 }
                 for (int k = 0; k < 3; ++k) at(mW.positions, c.node, k, l) = p[k];
+                c.pushed = true;
                 ++mCorrections[l];
             }
         }
 
         for (std::size_t i = 0; i < std::size_t(nodes) * kRow; ++i) v[i] = (x[i] - prev[i]) / h;
+        // A push is inelastic: a pushed vertex leaves the substep no faster along the normal than
+        // the surface, so correcting a penetration (push / h) adds no kinetic energy that a later
+        // substep would turn into a bounce.
+        for (int l = 0; l < W; ++l) {
+            for (SubstepWorkspace::LaneContact& c : mW.contacts[l]) {
+                if (!c.pushed) continue;
+                c.pushed = false;
+                Vec3 vel(at(mW.velocities, c.node, 0, l), at(mW.velocities, c.node, 1, l), at(mW.velocities, c.node, 2, l));
+                const double away = c.normal.dot(vel - c.surfaceVelocity);
+                if (!(away > 0.0)) continue;
+                vel -= away * c.normal;
+                for (int k = 0; k < 3; ++k) at(mW.velocities, c.node, k, l) = vel[k];
+            }
+        }
     }
 
     // The right-hand side M / h^2 y + sum_s k_s A_s^T p_s, with p_s the rest-length projection of

@@ -73,6 +73,7 @@ struct SubstepWorkspace {
         Vec3 normal = Vec3::Zero();
         Vec3 surfaceVelocity = Vec3::Zero();
         double offsetAtEnd = 0.0;  ///< [m] the plane is {x : normal . x = offset}, at the step's end
+        bool pushed = false;       ///< pushed in the current substep
     };
     std::vector<LaneContact> contacts[kMaxSubstepLanes];
     std::vector<uint8_t> fixedNodes;  // [node][lane]: held in place by the strain limit
