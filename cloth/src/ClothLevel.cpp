@@ -35,6 +35,35 @@ struct LowerMatrix {
     const std::vector<double>& values;
 };
 
+/// The lower triangle of a symmetric matrix, column-compressed with the diagonal first, owned.
+struct CompressedLower {
+    std::vector<uint32_t> columnStart{0}, rows;
+    std::vector<double> values;
+};
+
+/// Compresses per-column (row > column, value) lists and the diagonal; entries of one row in one
+/// column (parallel springs) are summed in the order they were added.
+CompressedLower compress(std::vector<std::vector<std::pair<uint32_t, double>>>& columns,
+                         const std::vector<double>& diagonal) {
+    CompressedLower out;
+    for (std::size_t j = 0; j < columns.size(); ++j) {
+        auto& col = columns[j];
+        std::stable_sort(col.begin(), col.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        out.rows.push_back(uint32_t(j));
+        out.values.push_back(diagonal[j]);
+        for (std::size_t k = 0; k < col.size(); ++k) {
+            if (k > 0 && col[k].first == col[k - 1].first) {
+                out.values.back() += col[k].second;
+                continue;
+            }
+            out.rows.push_back(col[k].first);
+            out.values.push_back(col[k].second);
+        }
+        out.columnStart.push_back(uint32_t(out.rows.size()));
+    }
+    return out;
+}
+
 /// A CHOLMOD view of `lower` (stype -1: lower triangle stored). Returns null on failure.
 cholmod_sparse* toCholmod(const LowerMatrix& lower, cholmod_common& c) {
     const std::size_t n = lower.columnStart.size() - 1;
@@ -132,26 +161,11 @@ Result<std::shared_ptr<const ClothLevel>> ClothLevel::cook(const ClothLevelDesc&
     // least fill wins), on the pattern with unit masses.
     std::vector<uint32_t> order(freeCount);  // new position -> provisional index
     {
-        std::vector<uint32_t> columnStart{0}, rows;
-        std::vector<double> values;
-        for (uint32_t j = 0; j < freeCount; ++j) {
-            auto& col = lowerColumns[j];
-            std::sort(col.begin(), col.end());
-            rows.push_back(j);
-            values.push_back(diagonal[j] + 1.0);
-            for (std::size_t k = 0; k < col.size(); ++k) {
-                if (k > 0 && col[k].first == col[k - 1].first) {
-                    values.back() += col[k].second;  // parallel springs share a slot
-                    continue;
-                }
-                rows.push_back(col[k].first);
-                values.push_back(col[k].second);
-            }
-            columnStart.push_back(uint32_t(rows.size()));
-        }
+        for (double& entry : diagonal) entry += 1.0;  // unit masses: only the pattern matters here
+        const CompressedLower pattern = compress(lowerColumns, diagonal);
         CholmodCommon common;
         common.c.nmethods = 4;  // the default suite after the user ordering: AMD, METIS, NESDIS
-        cholmod_sparse* a = toCholmod({columnStart, rows, values}, common.c);
+        cholmod_sparse* a = toCholmod({pattern.columnStart, pattern.rows, pattern.values}, common.c);
         if (!a) return Status::error(StatusCode::NumericalFailure, "ClothLevel: CHOLMOD could not allocate");
         cholmod_factor* symbolic = cholmod_analyze(a, &common.c);
         cholmod_free_sparse(&a, &common.c);
@@ -293,23 +307,7 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
         add(mFreeBendSprings);
         add(mAttachedBendSprings);
     }
-    std::vector<uint32_t> columnStart{0}, rows;
-    std::vector<double> values;
-    for (uint32_t j = 0; j < n; ++j) {
-        auto& col = columns[j];
-        std::stable_sort(col.begin(), col.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-        rows.push_back(j);
-        values.push_back(diagonal[j]);
-        for (std::size_t k = 0; k < col.size(); ++k) {
-            if (k > 0 && col[k].first == col[k - 1].first) {
-                values.back() += col[k].second;  // parallel springs share a slot
-                continue;
-            }
-            rows.push_back(col[k].first);
-            values.push_back(col[k].second);
-        }
-        columnStart.push_back(uint32_t(rows.size()));
-    }
+    const CompressedLower matrix = compress(columns, diagonal);
 
     CholmodCommon common;
     // The nodes are already in the fill-reducing order: no permutation, no postorder, so the factor
@@ -319,7 +317,7 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
     common.c.postorder = 0;
     common.c.supernodal = CHOLMOD_SIMPLICIAL;
     common.c.final_ll = 1;
-    cholmod_sparse* a = toCholmod({columnStart, rows, values}, common.c);
+    cholmod_sparse* a = toCholmod({matrix.columnStart, matrix.rows, matrix.values}, common.c);
     if (!a) return Status::error(StatusCode::NumericalFailure, "ClothLevel::buildFactor: CHOLMOD could not allocate");
     cholmod_factor* l = cholmod_analyze(a, &common.c);
     bool ok = l && cholmod_factorize(a, l, &common.c) && common.c.status == CHOLMOD_OK &&

@@ -28,6 +28,19 @@ std::vector<uint32_t> farCorners(const RectanglePanel& panel) {
     return {panel.vertexIndex(0, panel.rows), panel.vertexIndex(panel.columns, panel.rows)};
 }
 
+// Every vertex in contact with the floor y = 0 below it.
+std::vector<Contact> floorContacts(const ClothMesh& mesh) {
+    std::vector<Contact> contacts;
+    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
+        Contact c;
+        c.vertex = v;
+        c.point = Vec3(mesh.positions[v].x(), 0.0, mesh.positions[v].z());
+        c.normal = Vec3::UnitY();
+        contacts.push_back(c);
+    }
+    return contacts;
+}
+
 bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
@@ -208,15 +221,7 @@ TEST(SubstepSolver, SheetRestsOnAContactPlaneAtItsThickness) {
     ClothMesh mesh = panel.build().value();
     for (Vec3& p : mesh.positions) p.y() = 0.05;
     auto sim = SubstepSimulation::create(mesh, ClothMaterial{}, {}).value();
-    std::vector<Contact> contacts;
-    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
-        Contact c;
-        c.vertex = v;
-        c.point = Vec3(mesh.positions[v].x(), 0.0, mesh.positions[v].z());
-        c.normal = Vec3::UnitY();
-        contacts.push_back(c);
-    }
-    sim->setContacts(contacts);
+    sim->setContacts(floorContacts(mesh));
     SubstepSettings settings;
     settings.contactThickness = 0.004;
     settings.friction = Friction{0.5, 0.4};
@@ -502,15 +507,7 @@ TEST(SubstepSolver, PushingOutOfAPlaneAddsNoEnergy) {
     ClothMesh mesh = panel.build().value();
     for (Vec3& p : mesh.positions) p.y() = -0.02;
     auto sim = SubstepSimulation::create(mesh, ClothMaterial{}, {}).value();
-    std::vector<Contact> contacts;
-    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
-        Contact c;
-        c.vertex = v;
-        c.point = Vec3(mesh.positions[v].x(), 0.0, mesh.positions[v].z());
-        c.normal = Vec3::UnitY();
-        contacts.push_back(c);
-    }
-    sim->setContacts(contacts);
+    sim->setContacts(floorContacts(mesh));
     SubstepSettings settings;
     settings.contactThickness = 0.004;
     double highest = -1.0;
