@@ -46,6 +46,17 @@ Status staleHandle(const char* what) {
     return Status::invalidArgument(std::string(what) + " is null, stale or from another world");
 }
 
+/// Substeps and CG iterations of a level: the desc's at the finest level; each coarser level one
+/// iteration fewer and every second one half the substeps (at least one each). A coarse level's
+/// heavier nodes make its system better conditioned, and its picture is coarse anyway.
+struct SolverEffort {
+    int substeps, iterations;
+};
+SolverEffort solverEffort(const WorldDesc& desc, int level, int levelCount) {
+    const int below = levelCount - 1 - level;
+    return {std::max(1, int(desc.substeps) >> ((below + 1) / 2)), std::max(1, int(desc.solverIterations) - below)};
+}
+
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
@@ -223,8 +234,9 @@ Status WorldImpl::scheduleFrame(double dt) {
             const std::size_t n = level.active.mesh.vertexCount();
             lod::LevelProfile lp;
             lp.errorMetres = level.errorMetres;
-            lp.substeps = int(mDesc.substeps);
-            lp.iterations = int(mDesc.solverIterations);
+            const SolverEffort effort = solverEffort(mDesc, int(l), int(record.asset->levels.size()));
+            lp.substeps = effort.substeps;
+            lp.iterations = effort.iterations;
             lp.costMs[int(lod::SolverChoice::SubstepNewton)] = mCostModel.predictMs(
                 handle.index1, int(l), lod::SolverChoice::SubstepNewton, n, lp.substeps, lp.iterations);
             profile.levels[l] = lp;
@@ -258,8 +270,11 @@ Status WorldImpl::scheduleFrame(double dt) {
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         lod::GarmentSchedule& s = mSchedules[i];
         if (const int forced = mItems[i].garment->forcedLevel(); forced >= 0) {
+            const lod::LevelProfile& level = mProfiles[mRequests[i].profile].levels[forced];
             s.level = forced;
             s.updateInterval = 1;
+            s.substeps = level.substeps;
+            s.iterations = level.iterations;
         }
         mItems[i].garment->schedule = s;
     }
@@ -416,12 +431,20 @@ Status WorldImpl::step(double dt) {
     for (std::size_t i : mUpdates) {
         const GarmentInstance& g = *mItems[i].garment;
         if (g.stats.failed) continue;
-        keys.push_back({g.assetIndex(), g.level(), g.context.dt / double(mDesc.substeps), i});
+        const int substeps = std::max(1, g.schedule.substeps);
+        keys.push_back({g.assetIndex(), g.level(), g.context.dt / double(substeps), substeps,
+                        std::max(1, g.schedule.iterations), i});
     }
+    auto sameBatch = [](const Key& a, const Key& b) {
+        return a.asset == b.asset && a.level == b.level && a.substep == b.substep && a.substeps == b.substeps &&
+               a.iterations == b.iterations;
+    };
     std::sort(keys.begin(), keys.end(), [&](const Key& a, const Key& b) {
         if (a.asset != b.asset) return a.asset < b.asset;
         if (a.level != b.level) return a.level < b.level;
         if (a.substep != b.substep) return a.substep < b.substep;
+        if (a.substeps != b.substeps) return a.substeps < b.substeps;
+        if (a.iterations != b.iterations) return a.iterations < b.iterations;
         return mItems[a.item].id.index1 < mItems[b.item].id.index1;
     });
     mBatchCount = 0;
@@ -429,9 +452,7 @@ Status WorldImpl::step(double dt) {
         GarmentInstance& g = *mItems[keys[k].item].garment;
         auto factor = factorFor(g, keys[k].substep);
         std::size_t end = k + 1;
-        while (end < keys.size() && keys[end].asset == keys[k].asset && keys[end].level == keys[k].level &&
-               keys[end].substep == keys[k].substep)
-            ++end;
+        while (end < keys.size() && sameBatch(keys[end], keys[k])) ++end;
         if (!factor.isOk()) {
             for (std::size_t j = k; j < end; ++j) fail(*mItems[keys[j].item].garment, factor.status());
             k = end;
@@ -445,8 +466,8 @@ Status WorldImpl::step(double dt) {
             batch.dt = g.context.dt;
             batch.settings = cloth::SubstepSettings{};
             batch.settings.method = cloth::SubstepMethod::Newton;
-            batch.settings.substeps = int(mDesc.substeps);
-            batch.settings.iterations = int(mDesc.solverIterations);
+            batch.settings.substeps = keys[k].substeps;
+            batch.settings.iterations = keys[k].iterations;
             batch.settings.strainLimit = mDesc.strainLimit;
             batch.settings.contactThickness = g.asset().desc.thickness;
             batch.settings.friction = cloth::Friction{g.asset().desc.friction, 0.8 * g.asset().desc.friction};

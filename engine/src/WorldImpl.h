@@ -103,7 +103,8 @@ private:
     struct BatchKey {
         uint32_t asset;
         int level;
-        double substep;
+        double substep;  ///< [s]
+        int substeps, iterations;
         std::size_t item;
     };
     std::vector<BatchKey> mBatchKeys;

@@ -34,10 +34,12 @@ struct WorldDesc {
     TaskRunner taskRunner = nullptr;  ///< the host's job system for the garment tasks; null = OpenMP
     void* taskRunnerUserData = nullptr;
     uint32_t maxUpdateInterval = 16;  ///< [frames] slowest update of a far garment, power of two
-    uint32_t substeps = 4;            ///< [-] solver substeps per garment update (backward Euler in
-                                      ///< small steps; accuracy grows with them); [1, 64]
+    uint32_t substeps = 4;            ///< [-] solver substeps per update at an asset's finest level
+                                      ///< (backward Euler in small steps; accuracy grows with them);
+                                      ///< every second coarser level takes half; [1, 64]
     uint32_t solverIterations = 4;    ///< [-] conjugate-gradient iterations per substep on the
-                                      ///< shared factor; [1, 100]
+                                      ///< shared factor at the finest level; each coarser level one
+                                      ///< fewer (at least 1); [1, 100]
     uint32_t batchSize = 4;           ///< [-] garments of one asset and level stepped together per
                                       ///< solver call (SIMD across them; results never depend on
                                       ///< it); [1, 8]
