@@ -214,7 +214,9 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
         for (std::size_t v = 0; v < mPositions.size(); ++v) mVelocities[v] = (mPositions[v] - mStepStart[v]) / context.dt;
         inOutReport.failSafes = selfStats.failSafeActivations;
     }
-    if (context.collider) {
+    // Against capsules (a garment small on screen) the update's contact planes are the whole
+    // response; the corrections after the solve are for garments seen close, against the mesh.
+    if (context.collider && !context.proxies) {
         // Reach as far as a vertex moved: one that the solve carried deeper into the body than the
         // thickness (squeezed between two limbs, say) is still found inside and pushed out.
         double moved = 0.0;
@@ -232,10 +234,9 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
                                               mMoved);
             !s)
             return s;
-        if (corrected > 0 && !context.proxies) {
+        if (corrected > 0) {
             // A push out of one part of the body can end inside another (out of the pelvis, into
             // the thigh it overlaps): one more proximity pass, which knows which part a point is in.
-            // (Capsules are convex: the first pass had every capsule in reach.)
             settings.continuous = false;
             settings.query.margin = mAsset->desc.thickness;
             if (Status s = mContactStage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;

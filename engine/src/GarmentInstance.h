@@ -77,8 +77,9 @@ public:
     Status prepare(CharacterInstance& character, GarmentUpdateReport& outReport);
     /// The solver's view of this garment for the update prepare() made ready.
     cloth::SubstepLane lane();
-    /// After the solve: self-collision if asked, then the body's swept and proximity corrections
-    /// (and the strain limit of `strainSettings` around the vertices they pushed).
+    /// After the solve: self-collision if asked, then (against the body mesh) the body's swept and
+    /// proximity corrections and the strain limit of `strainSettings` around the vertices they
+    /// pushed.
     Status finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport);
     /// Brings the world-space render mesh (positions and normals as floats) up to date: the shape
     /// in the character's frame is rebuilt only if the state changed (or a level switch is still
