@@ -57,6 +57,11 @@ SolverEffort solverEffort(const WorldDesc& desc, int level, int levelCount) {
     return {std::max(1, int(desc.substeps) >> ((below + 1) / 2)), std::max(1, int(desc.solverIterations) - below)};
 }
 
+/// Closed-loop budget: the fraction of a frame's wall-time error corrected per frame (as an
+/// exponent of the ratio), and the smallest share of the nominal CPU budget it may leave.
+constexpr double kBudgetGain = 0.1;
+constexpr double kMinBudgetScale = 0.2;
+
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
@@ -260,7 +265,8 @@ Status WorldImpl::scheduleFrame(double dt) {
         r.previous = item.garment->schedule;
     }
     lod::SchedulerSettings settings;
-    settings.budgetMs = mDesc.frameBudgetMs * (mDesc.budgetThreads > 0 ? mDesc.budgetThreads : threadCount());
+    settings.budgetMs = mDesc.frameBudgetMs * (mDesc.budgetThreads > 0 ? mDesc.budgetThreads : threadCount()) *
+                        mBudgetScale;
     settings.pixelTolerance = mDesc.pixelTolerance;
     settings.frameDt = dt;
     settings.maxUpdateInterval = int(mDesc.maxUpdateInterval);
@@ -523,6 +529,15 @@ Status WorldImpl::step(double dt) {
         if (c.body->hostSkinned) c.hostVerticesGiven = c.skinnedCurrent = false; // needed again next frame
     });
     fs.totalMs = msSince(frameStart);
+    // With learned costs the budget is closed-loop: what the garment costs do not show (the
+    // schedule, the serial parts, threads waiting on each other or on a busy machine) is found by
+    // comparing the frame's wall time with the budget, and the CPU budget the scheduler hands out
+    // follows, a little each frame. The fixed cost model stays open-loop: it must not depend on
+    // timing.
+    if (!mDesc.fixedCostModel && fs.totalMs > 0.0) {
+        const double correction = std::clamp(mDesc.frameBudgetMs / fs.totalMs, 0.5, 2.0);
+        mBudgetScale = std::clamp(mBudgetScale * std::pow(correction, kBudgetGain), kMinBudgetScale, 1.0);
+    }
     return Status::ok();
 }
 

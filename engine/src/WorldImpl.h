@@ -90,6 +90,7 @@ private:
     std::vector<lod::SchedulerCamera> mCameras;
     FrameStats mFrameStats;
     double mTime = 0.0;
+    double mBudgetScale = 1.0;  ///< closed-loop share of the nominal CPU budget (learned costs)
 
     // Per-frame scratch, kept to avoid allocating in the frame loop.
     std::vector<FrameItem> mItems;
