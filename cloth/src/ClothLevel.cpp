@@ -287,7 +287,8 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
             if (s.b < n) bendLoad[s.b] += s.stiffness;
         }
     bool includeBending = false;
-    for (uint32_t k = 0; k < n; ++k) includeBending = includeBending || h * h * bendLoad[k] / mNodeMass[k] > 0.1;
+    // Explicit springs are stable while h^2 sum_k / m < 2 at every node (Gershgorin); a quarter of that.
+    for (uint32_t k = 0; k < n; ++k) includeBending = includeBending || h * h * bendLoad[k] / mNodeMass[k] > 0.5;
 
     // Lower triangle of M / h^2 + L over the free nodes, column-compressed, diagonal first.
     std::vector<std::vector<std::pair<uint32_t, double>>> columns(n);
@@ -310,11 +311,17 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
     const CompressedLower matrix = compress(columns, diagonal);
 
     CholmodCommon common;
-    // The nodes are already in the fill-reducing order: no permutation, no postorder, so the factor
-    // is for our numbering. Simplicial LL^T: our own solves read it column by column.
-    common.c.nmethods = 1;
-    common.c.method[0].ordering = CHOLMOD_NATURAL;
-    common.c.postorder = 0;
+    // The nodes are already in the fill-reducing order of the stretch and shear springs: without
+    // bending the factor needs no permutation. Bending springs (two edges apart) widen the stencil,
+    // so a factor with them gets its own ordering. Simplicial LL^T: our own solves read it column
+    // by column.
+    if (includeBending) {
+        common.c.nmethods = 4;  // AMD, METIS, NESDIS: the least fill wins
+    } else {
+        common.c.nmethods = 1;
+        common.c.method[0].ordering = CHOLMOD_NATURAL;
+        common.c.postorder = 0;
+    }
     common.c.supernodal = CHOLMOD_SIMPLICIAL;
     common.c.final_ll = 1;
     cholmod_sparse* a = toCholmod({matrix.columnStart, matrix.rows, matrix.values}, common.c);
@@ -331,6 +338,10 @@ Result<std::shared_ptr<const SubstepFactor>> ClothLevel::buildFactor(double h) c
     std::shared_ptr<SubstepFactor> f(new SubstepFactor());
     f->mSubstep = h;
     f->mIncludesBending = includeBending;
+    if (includeBending) {
+        const int* perm = static_cast<const int*>(l->Perm);
+        f->mPermutation.assign(perm, perm + n);
+    }
     const int* p = static_cast<const int*>(l->p);
     const int* lRows = static_cast<const int*>(l->i);
     const double* x = static_cast<const double*>(l->x);
@@ -419,14 +430,25 @@ void SubstepFactor::solve(double* x) const {
     }
 }
 
-void SubstepFactor::solveInPlace(double* x, int stride) const {
-    switch (stride) {
-    case 4: solve<4>(x); break;
-    case 8: solve<8>(x); break;
-    case 12: solve<12>(x); break;
-    case 24: solve<24>(x); break;
-    default: break;  // callers pass a supported stride (see the header)
+void SubstepFactor::solveInPlace(double* x, int stride, std::vector<double>& scratch) const {
+    double* rows = x;
+    if (!mPermutation.empty()) {
+        // The factor is of P A P^T: solve for P x, in the scratch.
+        scratch.resize(mPermutation.size() * std::size_t(stride));
+        for (std::size_t i = 0; i < mPermutation.size(); ++i)
+            std::memcpy(&scratch[i * stride], x + std::size_t(mPermutation[i]) * stride, sizeof(double) * stride);
+        rows = scratch.data();
     }
+    switch (stride) {
+    case 4: solve<4>(rows); break;
+    case 8: solve<8>(rows); break;
+    case 12: solve<12>(rows); break;
+    case 24: solve<24>(rows); break;
+    default: return;  // callers pass a supported stride (see the header)
+    }
+    if (!mPermutation.empty())
+        for (std::size_t i = 0; i < mPermutation.size(); ++i)
+            std::memcpy(x + std::size_t(mPermutation[i]) * stride, &scratch[i * stride], sizeof(double) * stride);
 }
 
 } // namespace cc::cloth

@@ -256,7 +256,7 @@ private:
             double* b = mW.solution.data();
             for (int it = 0; it < mSettings.iterations; ++it) {
                 localStep(x, y, b, mass, h2);
-                mFactor->solveInPlace(b, kRow);  // global step with the shared factor
+                mFactor->solveInPlace(b, kRow, mW.permuted);  // global step with the shared factor
                 std::copy(b, b + std::size_t(free) * kRow, x);
             }
         }
@@ -491,7 +491,7 @@ private:
         }
         auto precondition = [&] {
             std::copy(r, r + size, z);
-            mFactor->solveInPlace(z, kRow);
+            mFactor->solveInPlace(z, kRow, mW.permuted);
         };
         precondition();
         std::copy(z, z + size, p);

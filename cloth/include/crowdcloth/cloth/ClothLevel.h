@@ -87,8 +87,8 @@ public:
 
     /// The local/global matrix for substeps of h [s], (0, 1]: M / h^2 + sum_s k_s (e_a - e_b)(e_a - e_b)^T
     /// over the free nodes (Liu et al. 2013, Bouaziz et al. 2014), factored as L L^T; bending
-    /// springs join the sum only where they are stiff at this h (explicitly they would need
-    /// h^2 sum k / m > 0.1 at some node). Costs a numeric factorisation (about 10 ms at 4,000
+    /// springs join the sum only where they are stiff at this h (h^2 sum k / m > 0.5 at some
+    /// node: explicit bending would be near its stability limit), with an ordering of their own. Costs a numeric factorisation (about 10 ms at 4,000
     /// nodes): build once per substep size and share.
     Result<std::shared_ptr<const SubstepFactor>> buildFactor(double h) const;
 
@@ -119,8 +119,9 @@ public:
     /// x[r * stride + c]. The stride is one of 4, 8, 12, 24 (x, y and z of a batch of 1, 2, 4 or 8
     /// instances, padded to whole SIMD pairs; padding entries must be finite). Columns do not
     /// interact and every column sees the same operations, so a column's result does not depend on
-    /// what else is solved with it.
-    void solveInPlace(double* x, int stride) const;
+    /// what else is solved with it. `scratch` holds a permuted copy when the factor has its own
+    /// ordering (bending included); it keeps its size between calls.
+    void solveInPlace(double* x, int stride, std::vector<double>& scratch) const;
 
 private:
     friend class ClothLevel;
@@ -133,6 +134,7 @@ private:
     std::vector<double> mValues;
     std::vector<uint32_t> mRowStart, mRowColumns;  // the same by rows
     std::vector<double> mRowValues, mInverseDiagonal;
+    std::vector<int> mPermutation;  // position -> node, when the factor has its own ordering
 };
 
 } // namespace cc::cloth

@@ -77,6 +77,7 @@ struct SubstepWorkspace {
     };
     std::vector<LaneContact> contacts[kMaxSubstepLanes];
     std::vector<uint8_t> fixedNodes;  // [node][lane]: held in place by the strain limit
+    std::vector<double> permuted;     // the factor's own ordering, when it has one
 };
 
 /// Backward Euler in small steps with a shared prefactored matrix. Per substep of h = dt / substeps,
