@@ -4,33 +4,33 @@
 #include <string>
 #include <vector>
 
+#include "CApiWorld.h"
 #include "crowdcloth/Version.h"
 #include "crowdcloth/World.h"
 
-/// The C handle: the C++ world plus the strings the C API hands out.
-struct cc_world {
-    cc::World* world = nullptr;
-    std::string lastError;
-    std::string json;
-};
+namespace cc::detail {
 
-namespace {
-
-cc_status toC(cc::StatusCode code) {
+cc_status toCStatus(StatusCode code) {
     switch (code) {
-    case cc::StatusCode::Ok: return CC_OK;
-    case cc::StatusCode::InvalidArgument: return CC_INVALID_ARGUMENT;
-    case cc::StatusCode::InvalidOperation: return CC_INVALID_OPERATION;
-    case cc::StatusCode::NotConverged: return CC_NOT_CONVERGED;
-    case cc::StatusCode::NumericalFailure: return CC_NUMERICAL_FAILURE;
+    case StatusCode::Ok: return CC_OK;
+    case StatusCode::InvalidArgument: return CC_INVALID_ARGUMENT;
+    case StatusCode::InvalidOperation: return CC_INVALID_OPERATION;
+    case StatusCode::NotConverged: return CC_NOT_CONVERGED;
+    case StatusCode::NumericalFailure: return CC_NUMERICAL_FAILURE;
     }
     return CC_INVALID_ARGUMENT;
 }
 
-cc_status report(const cc_world* w, const cc::Status& s) {
+cc_status reportToC(const cc_world* w, const Status& s) {
     if (w) const_cast<cc_world*>(w)->lastError = s.isOk() ? std::string() : s.message();
-    return toC(s.code());
+    return toCStatus(s.code());
 }
+
+} // namespace cc::detail
+
+namespace {
+
+cc_status report(const cc_world* w, const cc::Status& s) { return cc::detail::reportToC(w, s); }
 
 cc_status fail(const cc_world* w, cc_status code, const char* message) {
     if (w) const_cast<cc_world*>(w)->lastError = message;
@@ -69,12 +69,18 @@ cc_status guarded(const cc_world* w, F&& f) {
     X(width, width) X(length, length) X(cell_size, cellSize) X(level_count, levelCount)              \
     X(render_level, renderLevel) X(areal_density, arealDensity) X(stretch_stiffness, stretchStiffness) \
     X(shear_stiffness, shearStiffness) X(bend_stiffness, bendStiffness) X(damping, damping)          \
-    X(thickness, thickness) X(friction, friction) X(fold_radius, foldRadius)
+    X(thickness, thickness) X(friction, friction) X(fold_radius, foldRadius)                        \
+    X(relative_length, relativeLength) X(hem_width, hemWidth) X(ease, ease)
 #define CC_MANNEQUIN_FIELDS(X)                                                                       \
     X(height, height) X(shoulder_width, shoulderWidth) X(hip_width, hipWidth)                        \
     X(waist_width, waistWidth) X(limb_girth, limbGirth)
 #define CC_CHARACTER_FIELDS(X)                                                                       \
-    X(body, body) X(clip, clip) X(clip_time, clipTime) X(playback_rate, playbackRate) X(yaw, yaw)
+    X(body, body) X(clip, clip) X(clip_index, clipIndex) X(clip_time, clipTime) X(clip_phase, clipPhase) \
+    X(playback_rate, playbackRate) X(yaw, yaw)
+#define CC_LANDMARK_FIELDS(X)                                                                        \
+    X(neck_y, neckY) X(shoulder_y, shoulderY) X(chest_y, chestY) X(waist_y, waistY) X(hip_y, hipY)   \
+    X(neck_girth, neckGirth) X(chest_girth, chestGirth) X(waist_girth, waistGirth)                    \
+    X(hip_girth, hipGirth) X(shoulder_width, shoulderWidth)
 #define CC_TO_C(c, cpp) d->c = x.cpp;
 #define CC_TO_CPP(c, cpp) x.cpp = d->c;
 
@@ -96,6 +102,7 @@ void cc_cloth_asset_desc_init(cc_cloth_asset_desc* d) {
     const cc::ClothAssetDesc x;
     d->version = CC_DESC_VERSION;
     d->kind = cc_garment_kind(x.kind);
+    d->cut = cc_garment_cut(x.cut);
     CC_ASSET_FIELDS(CC_TO_C)
 }
 
@@ -121,6 +128,20 @@ void cc_garment_desc_init(cc_garment_desc* d) {
     d->force_level = cc::GarmentDesc{}.forceLevel;
 }
 
+void cc_body_desc_init(cc_body_desc* d) {
+    if (!d) return;
+    d->version = CC_DESC_VERSION;
+    d->height = cc::BodyDesc{}.height;
+}
+
+void cc_body_landmarks_init(cc_body_landmarks* d) {
+    if (!d) return;
+    const cc::BodyLandmarkDesc x;
+    d->version = CC_DESC_VERSION;
+    for (int k = 0; k < 3; ++k) d->forward[k] = x.forward[k];
+    CC_LANDMARK_FIELDS(CC_TO_C)
+}
+
 void cc_camera_desc_init(cc_camera_desc* d) {
     if (!d) return;
     const cc::CameraDesc x;
@@ -140,7 +161,7 @@ cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
         x.fixedCostModel = d->fixed_cost_model != 0;
         for (int k = 0; k < 3; ++k) x.gravity[k] = d->gravity[k];
         auto world = cc::World::create(x);
-        if (!world.isOk()) return toC(world.status().code());
+        if (!world.isOk()) return cc::detail::toCStatus(world.status().code());
         *out_world = new cc_world{world.value(), {}, {}};
         return CC_OK;
     });
@@ -161,6 +182,7 @@ cc_status cc_world_add_cloth_asset(cc_world* w, const cc_cloth_asset_desc* d, cc
     return guarded(w, [&] {
         cc::ClothAssetDesc x;
         x.kind = cc::GarmentKind(d->kind);
+        x.cut = cc::GarmentCut(d->cut);
         CC_ASSET_FIELDS(CC_TO_CPP)
         auto id = w->world->addClothAsset(x);
         if (id.isOk()) *out = id.value();
@@ -190,6 +212,68 @@ cc_status cc_world_add_skinned_body(cc_world* w, const float* bind_positions, ui
         auto id = w->world->addSkinnedBody(bind_positions, vertex_count, stride_bytes, triangles, triangle_count);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());
+    });
+}
+
+cc_status cc_world_set_body_landmarks(cc_world* w, cc_body_id body, const cc_body_landmarks* d) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_DESC(w, d, "body landmarks");
+    return guarded(w, [&] {
+        cc::BodyLandmarkDesc x;
+        for (int k = 0; k < 3; ++k) x.forward[k] = d->forward[k];
+        CC_LANDMARK_FIELDS(CC_TO_CPP)
+        return report(w, w->world->setBodyLandmarks(body, x));
+    });
+}
+
+cc_status cc_world_get_body_landmarks(const cc_world* w, cc_body_id body, cc_body_landmarks* d) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, d, "out_landmarks");
+    return guarded(w, [&] {
+        auto l = w->world->bodyLandmarks(body);
+        if (l.isOk()) {
+            const cc::BodyLandmarkDesc& x = l.value();
+            d->version = CC_DESC_VERSION;
+            for (int k = 0; k < 3; ++k) d->forward[k] = x.forward[k];
+            CC_LANDMARK_FIELDS(CC_TO_C)
+        }
+        return report(w, l.status());
+    });
+}
+
+cc_status cc_world_get_body_clip_count(const cc_world* w, cc_body_id body, uint32_t* out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out, "out_count");
+    return guarded(w, [&] {
+        auto n = w->world->bodyClipCount(body);
+        if (n.isOk()) *out = n.value();
+        return report(w, n.status());
+    });
+}
+
+cc_status cc_world_get_body_clip_name(const cc_world* w, cc_body_id body, uint32_t index, const char** out) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out, "out_name");
+    return guarded(w, [&] {
+        auto name = w->world->bodyClipName(body, index);
+        if (name.isOk()) *out = name.value();
+        return report(w, name.status());
+    });
+}
+
+cc_status cc_world_get_garment_fit(const cc_world* w, cc_garment_id g, cc_cloth_asset_desc* d) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, d, "out_desc");
+    return guarded(w, [&] {
+        auto fit = w->world->garmentFit(g);
+        if (fit.isOk()) {
+            const cc::ClothAssetDesc& x = fit.value();
+            d->version = CC_DESC_VERSION;
+            d->kind = cc_garment_kind(x.kind);
+            d->cut = cc_garment_cut(x.cut);
+            CC_ASSET_FIELDS(CC_TO_C)
+        }
+        return report(w, fit.status());
     });
 }
 
@@ -294,7 +378,7 @@ cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garm
             *out = cc_garment_stats{s.level, s.vertexCount, uint32_t(s.solver), s.substeps, s.updateInterval,
                                     s.updated, s.levelSwitched, uint32_t(s.collision), s.selfCollision,
                                     s.contacts, s.failSafes, s.failed, s.screenRadiusPx, s.predictedErrorPx,
-                                    s.predictedMs, s.measuredMs, s.collisionMs, s.maxStrain};
+                                    s.predictedMs, s.measuredMs, s.collisionMs, s.maxStrain, s.maxAttachmentError};
         }
         return report(w, stats.status());
     });

@@ -9,8 +9,14 @@ namespace cc {
 Status ClothAssetDesc::validate() const {
     auto inRange = [](double x, double lo, double hi) { return std::isfinite(x) && x > lo && x <= hi; };
     if (uint32_t(kind) > uint32_t(GarmentKind::Poncho)) return Status::invalidArgument("ClothAssetDesc.kind is unknown");
-    if (!inRange(width, 0.0, 10.0)) return Status::invalidArgument("ClothAssetDesc.width must be in (0, 10] m");
-    if (!inRange(length, 0.0, 10.0)) return Status::invalidArgument("ClothAssetDesc.length must be in (0, 10] m");
+    if (uint32_t(cut) > uint32_t(GarmentCut::Circle)) return Status::invalidArgument("ClothAssetDesc.cut is unknown");
+    auto fittedOr = [&](double x, double hi) { return x == 0.0 || inRange(x, 0.0, hi); };
+    if (!fittedOr(width, 10.0)) return Status::invalidArgument("ClothAssetDesc.width must be 0 (fitted) or in (0, 10] m");
+    if (!fittedOr(length, 10.0)) return Status::invalidArgument("ClothAssetDesc.length must be 0 (fitted) or in (0, 10] m");
+    if (!fittedOr(relativeLength, 1.0))
+        return Status::invalidArgument("ClothAssetDesc.relativeLength must be 0 (the kind's) or in (0, 1] body heights");
+    if (!fittedOr(hemWidth, 50.0)) return Status::invalidArgument("ClothAssetDesc.hemWidth must be 0 (the cut's) or in (0, 50] m");
+    if (!(std::isfinite(ease) && ease >= 0.0 && ease <= 0.5)) return Status::invalidArgument("ClothAssetDesc.ease must be in [0, 0.5] m");
     if (!inRange(cellSize, 0.0, 1.0)) return Status::invalidArgument("ClothAssetDesc.cellSize must be in (0, 1] m");
     if (levelCount < 1 || levelCount > 10) return Status::invalidArgument("ClothAssetDesc.levelCount must be in [1, 10]");
     if (renderLevel + 1 < levelCount || renderLevel > 10)
@@ -116,9 +122,15 @@ void buildTransfers(const lod::GarmentHierarchy& hierarchy, CookedLevel& coarse,
 
 Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc) {
     if (Status s = desc.validate(); !s) return s;
+    if (desc.width == 0.0 || desc.length == 0.0)
+        return Status::invalidArgument("ClothAssetDesc: width and length 0 are fitted to a body (cook through GarmentFit)");
     auto pattern = makePattern(desc);
     if (!pattern.isOk()) return Status::invalidArgument("ClothAssetDesc: " + pattern.status().message());
+    return cookClothPattern(desc, pattern.value(), {});
+}
 
+Result<CookedAsset> cookClothPattern(const ClothAssetDesc& desc, const lod::GarmentPattern& pattern,
+                                     Span<const PatternPoint> attached) {
     CookedAsset asset;
     asset.desc = desc;
     asset.material.arealDensity = desc.arealDensity;
@@ -131,11 +143,22 @@ Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc) {
     hs.arealDensity = desc.arealDensity;
     hs.maxLevel = std::max(desc.renderLevel, desc.levelCount - 1);
     hs.renderLevel = desc.renderLevel;
-    auto base = lod::GarmentHierarchy::create(pattern.value(), hs);
+    auto base = lod::GarmentHierarchy::create(pattern, hs);
     if (!base.isOk()) return Status::invalidArgument("ClothAssetDesc: " + base.status().message());
     asset.renderTriangles = base.value().renderTriangles();
     asset.renderVertexCount = base.value().renderVertexCount();
-    asset.attachedVertices = topLine(base.value());
+    if (attached.empty()) {
+        asset.attachedVertices = topLine(base.value());
+    } else {
+        for (const PatternPoint& p : attached) {
+            const uint32_t id = base.value().baseVertex(p.panel, p.i, p.j);
+            if (id == lod::GarmentHierarchy::kNone) return Status::invalidArgument("cookClothPattern: attachment off the pattern");
+            asset.attachedVertices.push_back(id);
+        }
+        std::sort(asset.attachedVertices.begin(), asset.attachedVertices.end());
+        asset.attachedVertices.erase(std::unique(asset.attachedVertices.begin(), asset.attachedVertices.end()),
+                                     asset.attachedVertices.end());
+    }
 
     std::vector<uint32_t> renderIds(asset.renderVertexCount);
     for (uint32_t r = 0; r < asset.renderVertexCount; ++r) renderIds[r] = r;

@@ -55,4 +55,15 @@ struct CookedAsset {
 /// Validates `desc`, builds the pattern, the hierarchy and every level. Fails naming the field.
 Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc);
 
+/// A base grid point of a pattern panel: (i, j) with i along u, j along v.
+struct PatternPoint {
+    uint32_t panel = 0, i = 0, j = 0;
+};
+
+/// Cooks a pattern built elsewhere (a garment fitted to a body, GarmentFit) like cookClothAsset,
+/// hung from the given base grid points. `desc` supplies the material and levels; its sizes are
+/// not used.
+Result<CookedAsset> cookClothPattern(const ClothAssetDesc& desc, const lod::GarmentPattern& pattern,
+                                     Span<const PatternPoint> attached);
+
 } // namespace cc::detail

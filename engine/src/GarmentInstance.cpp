@@ -70,8 +70,7 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     g->mAssetIndex = assetIndex;
     g->mCharacterId = characterId;
     g->mImportance = desc.importance;
-    const ClothAssetDesc& d = g->mAsset->desc;
-    g->mPlacement = garmentPlacement(*character.body, d.kind, d.width, d.length, d.thickness);
+    // Cooked assets are fitted to the body and placed in its rest pose (GarmentFit): mPlacement stays 0.
     if (Status s = g->bindAttachments(character); !s) return s;
 
     // Start at level 0 with every vertex carried by the body point nearest to it, so a skirt put
@@ -81,7 +80,7 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     for (std::size_t i = 0; i < bindPositions.size(); ++i) bindPositions[i] = level0.active.mesh.positions[i] + g->mPlacement;
     SkinBindingSettings wide;
     wide.maxBindDistance = 10.0;
-    auto carried = SkinBinding::bind(character.body->anchorMesh, bindPositions, wide);
+    auto carried = bindToBody(*character.body, bindPositions, wide);
     if (!carried.isOk()) return Status::invalidArgument("addGarment: " + carried.status().message());
     std::vector<Vec3> start(bindPositions.size());
     if (character.body->hostSkinned) {
@@ -116,7 +115,7 @@ Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
     for (uint32_t id : mAsset->attachedVertices) bindPositions.push_back(base.position(id) + mPlacement);
     SkinBindingSettings settings;
     settings.maxBindDistance = 1.0;
-    auto binding = SkinBinding::bind(character.body->anchorMesh, bindPositions, settings);
+    auto binding = bindToBody(*character.body, bindPositions, settings);
     if (!binding.isOk()) return Status::invalidArgument("addGarment: attachment " + binding.status().message());
     mAttachments = std::move(binding).value();
     mTargets.resize(mAttachments.size());
@@ -334,6 +333,13 @@ RenderMeshView GarmentInstance::renderView() const {
     view.indices = mRenderIndices.data();
     view.triangleCount = uint32_t(mRenderIndices.size() / 3);
     return view;
+}
+
+double GarmentInstance::attachmentError() const {
+    double worst = 0.0;
+    for (const AttachedVertex& a : mAsset->levels[mLevel].attached)
+        if (a.slot < mTargets.size()) worst = std::max(worst, (mPositions[a.sim] - mTargets[a.slot]).norm());
+    return worst;
 }
 
 double GarmentInstance::maxEdgeStrain() const {

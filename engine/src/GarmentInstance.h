@@ -95,6 +95,8 @@ public:
     double specificKineticEnergy() const { return mSpecificKineticEnergy; }
     /// Largest (length / rest length - 1) over the level's strain-limited edges.
     double maxEdgeStrain() const;
+    /// [m] largest distance of an attached vertex from its target after the last update.
+    double attachmentError() const;
     uint64_t hash() const;
 
 private:

@@ -49,7 +49,7 @@ std::string WorldImpl::statsJson() const {
             << ",\"failed\":" << (s.failed ? "true" : "false") << ",\"screenRadiusPx\":" << s.screenRadiusPx
             << ",\"errorPx\":" << s.predictedErrorPx << ",\"predictedMs\":" << s.predictedMs
             << ",\"measuredMs\":" << s.measuredMs << ",\"collisionMs\":" << s.collisionMs
-            << ",\"maxStrain\":" << s.maxStrain << "}";
+            << ",\"maxStrain\":" << s.maxStrain << ",\"maxAttachmentError\":" << s.maxAttachmentError << "}";
         first = false;
     });
     out << "]}";

@@ -26,6 +26,19 @@ Result<BodyId> World::addMannequinBody(const MannequinDesc& desc) {
     return impl(this).addBody(std::move(body).value());
 }
 
+Result<BodyId> World::addCharacterBody(const Character& character, const BodyDesc& desc) {
+    auto body = detail::makeCharacterBody(character, desc);
+    if (!body.isOk()) return body.status();
+    return impl(this).addBody(std::move(body).value());
+}
+
+Status World::setBodyLandmarks(BodyId body, const BodyLandmarkDesc& landmarks) {
+    return impl(this).setBodyLandmarks(body, landmarks);
+}
+Result<BodyLandmarkDesc> World::bodyLandmarks(BodyId body) const { return impl(this).bodyLandmarks(body); }
+Result<uint32_t> World::bodyClipCount(BodyId body) const { return impl(this).bodyClipCount(body); }
+Result<const char*> World::bodyClipName(BodyId body, uint32_t index) const { return impl(this).bodyClipName(body, index); }
+
 Result<BodyId> World::addSkinnedBody(const float* bindPositions, uint32_t vertexCount, uint32_t strideBytes,
                                      const uint32_t* triangles, uint32_t triangleCount) {
     auto body = detail::makeHostSkinnedBody(bindPositions, vertexCount, strideBytes, triangles, triangleCount);
@@ -52,6 +65,7 @@ Status World::step(double dt) { return impl(this).step(dt); }
 Result<RenderMeshView> World::renderMesh(GarmentId id) const { return impl(this).renderMesh(id); }
 Result<RenderMeshView> World::characterMesh(CharacterId id) { return impl(this).characterMesh(id); }
 Result<GarmentStats> World::garmentStats(GarmentId id) const { return impl(this).garmentStats(id); }
+Result<ClothAssetDesc> World::garmentFit(GarmentId id) const { return impl(this).garmentFit(id); }
 const FrameStats& World::frameStats() const { return impl(this).frameStats(); }
 std::string World::statsJson() const { return impl(this).statsJson(); }
 uint64_t World::stateHash() const { return impl(this).stateHash(); }

@@ -90,11 +90,10 @@ int WorldImpl::threadCount() const {
 }
 
 Result<AssetId> WorldImpl::addClothAsset(const ClothAssetDesc& desc) {
-    auto cooked = cookClothAsset(desc);
-    if (!cooked.isOk()) return cooked.status();
-    auto record = std::make_unique<AssetRecord>();
-    record->asset = std::make_shared<const CookedAsset>(std::move(cooked).value());
-    const auto h = mAssets.add(std::move(record));
+    if (Status s = desc.validate(); !s) return s;
+    auto record = std::make_unique<DesignRecord>();
+    record->desc = desc;
+    const auto h = mDesigns.add(std::move(record));
     return AssetId{h.index1, h.generation};
 }
 
@@ -111,16 +110,11 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
     const Vec3 position(desc.position[0], desc.position[1], desc.position[2]);
     if (!isFinite(position) || !std::isfinite(desc.yaw))
         return Status::invalidArgument("CharacterDesc.position and yaw must be finite");
-    if (!std::isfinite(desc.clipTime)) return Status::invalidArgument("CharacterDesc.clipTime must be finite");
     if (!(desc.playbackRate >= 0.0 && desc.playbackRate <= 10.0))
         return Status::invalidArgument("CharacterDesc.playbackRate must be in [0, 10]");
     auto c = std::make_unique<CharacterInstance>();
     c->body = body->body;
-    if (desc.clip && desc.clip[0] != '\0' && !body->body->hostSkinned) {
-        c->clip = body->body->mannequin.character.findClip(desc.clip);
-        if (c->clip < 0) return Status::invalidArgument(std::string("CharacterDesc.clip: no clip named '") + desc.clip + "'");
-    }
-    c->clipTime = desc.clipTime;
+    if (Status s = resolveClip(*body->body, desc, c->clip, c->clipTime); !s) return s;
     c->playbackRate = desc.playbackRate;
     c->position = c->previousPosition = position;
     c->yaw = desc.yaw;
@@ -173,11 +167,15 @@ Status WorldImpl::setCharacterSkinnedVertices(CharacterId id, const float* posit
     return Status::ok();
 }
 
-Result<GarmentId> WorldImpl::addGarment(AssetId assetId, CharacterId characterId, const GarmentDesc& desc) {
-    const AssetRecord* asset = mAssets.get(assetId);
-    if (!asset) return staleHandle("asset");
+Result<GarmentId> WorldImpl::addGarment(AssetId designId, CharacterId characterId, const GarmentDesc& desc) {
+    DesignRecord* design = mDesigns.get(designId);
+    if (!design) return staleHandle("asset");
     CharacterInstance* c = mCharacters.get(characterId);
     if (!c) return staleHandle("character");
+    auto fitted = fittedAsset(*design, c->body);
+    if (!fitted.isOk()) return Status::invalidArgument("addGarment: " + fitted.status().message());
+    const AssetId assetId = fitted.value();
+    const AssetRecord* asset = mAssets.get(assetId);
     auto g = GarmentInstance::create(asset->asset, assetId.index1, *c, characterId, desc);
     if (!g.isOk()) return g.status();
     g.value()->lastUpdateTime = mTime;
@@ -464,7 +462,7 @@ Status WorldImpl::step(double dt) {
             k = end;
             continue;
         }
-        for (; k < end; k += mDesc.batchSize) {
+        for (; k < end; k = std::min<std::size_t>(end, k + mDesc.batchSize)) {
             if (mBatchCount == mBatches.size()) mBatches.emplace_back();
             Batch& batch = mBatches[mBatchCount++];
             batch.level = &g.cookedLevel();
@@ -512,6 +510,7 @@ Status WorldImpl::step(double dt) {
         s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;
         if (s.updated) {
             s.maxStrain = g.maxEdgeStrain();
+            s.maxAttachmentError = g.attachmentError();
             if (!s.failed && !s.levelSwitched)
                 mCostModel.record(g.assetIndex(), g.level(), sc.solver, s.measuredMs);
             ++fs.updated;

@@ -23,6 +23,12 @@ public:
 
     Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
     Result<BodyId> addBody(BodyAsset body);
+    // Bodies and fitted garments (WorldBodies.cpp).
+    Status setBodyLandmarks(BodyId id, const BodyLandmarkDesc& landmarks);
+    Result<BodyLandmarkDesc> bodyLandmarks(BodyId id) const;
+    Result<uint32_t> bodyClipCount(BodyId id) const;
+    Result<ClothAssetDesc> garmentFit(GarmentId id) const;
+    Result<const char*> bodyClipName(BodyId id, uint32_t index) const;
     Result<CharacterId> addCharacter(const CharacterDesc& desc);
     Status removeCharacter(CharacterId id);
     Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
@@ -47,6 +53,14 @@ private:
     struct BodyRecord {
         std::shared_ptr<const BodyAsset> body;
     };
+    /// A garment design as added: cooked per body on first use (GarmentFit), each fitted asset
+    /// then an asset of its own (own levels, cost profile), shared by every wearer of that body.
+    struct DesignRecord {
+        ClothAssetDesc desc;
+        std::vector<std::pair<std::shared_ptr<const BodyAsset>, AssetId>> fitted;
+    };
+    /// The design's asset fitted to `body`, cooked on first use.
+    Result<AssetId> fittedAsset(DesignRecord& design, const std::shared_ptr<const BodyAsset>& body);
     /// One garment's slot in this frame's work lists.
     struct FrameItem {
         GarmentId id;
@@ -84,6 +98,7 @@ private:
     lod::CostModel mCostModel;
     std::unique_ptr<collision::CollisionDevice> mDevice;
     HandlePool<AssetRecord> mAssets;
+    HandlePool<DesignRecord> mDesigns;
     HandlePool<BodyRecord> mBodies;
     HandlePool<CharacterInstance> mCharacters;
     HandlePool<GarmentInstance> mGarments;

@@ -110,7 +110,7 @@ Result<GarmentHierarchy> GarmentHierarchy::create(const GarmentPattern& pattern,
                 if (compact[root] == kNone) {
                     compact[root] = static_cast<uint32_t>(h.mVertices.size());
                     Vertex v;
-                    v.position = d.place(Vec2(d.width * i / d.columns, d.height * j / d.rows));
+                    v.position = d.place(double(i) / d.columns, double(j) / d.rows);
                     v.active = true;
                     h.mVertices.push_back(v);
                 }
@@ -125,7 +125,7 @@ Result<GarmentHierarchy> GarmentHierarchy::create(const GarmentPattern& pattern,
     for (uint32_t p = 0; p < pattern.panels.size(); ++p) {
         const PanelDesc& d = pattern.panels[p];
         auto corner = [&](uint32_t i, uint32_t j) {
-            return std::make_pair(h.mBaseVertexIds[gridId(p, i, j)], Vec2(d.width * i / d.columns, d.height * j / d.rows));
+            return std::make_pair(h.mBaseVertexIds[gridId(p, i, j)], d.rest(double(i) / d.columns, double(j) / d.rows));
         };
         for (uint32_t j = 0; j < d.rows; ++j) {
             for (uint32_t i = 0; i < d.columns; ++i) {

@@ -32,14 +32,45 @@ uint32_t squaresFor(double length, double cellSize, uint32_t minimum) {
 
 } // namespace
 
-Vec3 PanelDesc::place(const Vec2& uv) const {
+Vec2 PanelDesc::rest(double s, double t) const {
+    return chartOrigin + Eigen::Rotation2Dd(chartAngle) * localRest(s, t);
+}
+
+Vec2 PanelDesc::localRest(double s, double t) const {
+    const double flare = flareAngle();
+    if (!(flare > 0.0)) return Vec2(s * width, t * height);
+    // Annular sector with its apex above the top side: radius grows from the top arc down to the
+    // hem, the angle runs across the width; the top centre sits at (width / 2, height).
+    const double topRadius = width / flare;
+    const double radius = topRadius + (1.0 - t) * height;
+    const double angle = (s - 0.5) * flare;
+    return Vec2(0.5 * width + radius * std::sin(angle), height + topRadius - radius * std::cos(angle));
+}
+
+Vec2 PanelDesc::gridOf(const Vec2& restPosition) const {
+    const Vec2 local = Eigen::Rotation2Dd(-chartAngle) * (restPosition - chartOrigin);
+    const double flare = flareAngle();
+    if (!(flare > 0.0)) return Vec2(local.x() / width, local.y() / height);
+    const double topRadius = width / flare;
+    const Vec2 fromApex = local - Vec2(0.5 * width, height + topRadius);
+    const double radius = fromApex.norm();
+    const double angle = std::atan2(fromApex.x(), -fromApex.y());
+    return Vec2(angle / flare + 0.5, 1.0 - (radius - topRadius) / height);
+}
+
+Vec3 PanelDesc::place(double s, double t) const {
     if (shape == PanelShape::Tube) {
-        const double radius = width / (2.0 * kPi);
-        const double angle = 2.0 * kPi * uv.x() / width;
+        // A cone whose slant is the panel's height: every ring keeps its rest circumference.
+        const double ringLength = width + (1.0 - t) * (bottomWidth() - width);
+        const double radius = ringLength / (2.0 * kPi);
+        const double sinHalfApex = std::min(1.0, flareAngle() / (2.0 * kPi));
+        const double along = height - (1.0 - t) * height * std::sqrt(1.0 - sinHalfApex * sinHalfApex);
+        const double angle = 2.0 * kPi * s;
         const Vec3 side = uAxis.cross(vAxis);
-        return origin + radius * (std::cos(angle) * uAxis + std::sin(angle) * side) + uv.y() * vAxis;
+        return origin + radius * (std::cos(angle) * uAxis + std::sin(angle) * side) + along * vAxis;
     }
-    return origin + uv.x() * uAxis + uv.y() * vAxis;
+    const Vec2 r = localRest(s, t);
+    return origin + r.x() * uAxis + r.y() * vAxis;
 }
 
 Status GarmentPattern::validate() const {
@@ -62,14 +93,25 @@ Status GarmentPattern::validate() const {
         if (d.columns > kMaxBaseSquares || d.rows > kMaxBaseSquares) {
             return Status::invalidArgument(name + ".columns and .rows must be <= 4096");
         }
-        // Thin base squares make long thin triangles at every level; a 1:8 aspect is already poor.
+        if (!std::isfinite(d.hemWidth) || d.hemWidth < 0.0 ||
+            (d.hemWidth > 0.0 && !(d.hemWidth >= d.width && d.hemWidth <= d.width + 2.0 * kPi * d.height * (1.0 + 1e-12)))) {
+            return Status::invalidArgument(name + ".hemWidth must be 0 or in [width, width + 2 pi height] (" +
+                                           std::to_string(d.width) + ", " +
+                                           std::to_string(d.width + 2.0 * kPi * d.height) + "), got " +
+                                           std::to_string(d.hemWidth));
+        }
+        // Thin base squares make long thin triangles at every level; a 1:8 aspect is already poor
+        // (a flared panel's squares are narrowest at the top and widest at the hem).
         const double aspect = (d.width / d.columns) / (d.height / d.rows);
-        if (!(aspect >= 0.125 && aspect <= 8.0)) {
+        const double hemAspect = (d.bottomWidth() / d.columns) / (d.height / d.rows);
+        if (!(aspect >= 0.125 && hemAspect <= 8.0)) {
             return Status::invalidArgument(name + ": base squares are " + std::to_string(d.width / d.columns) +
                                            " x " + std::to_string(d.height / d.rows) +
                                            " m; keep their aspect within 1:8 (adjust columns/rows)");
         }
         if (!isFinite(d.origin)) return Status::invalidArgument(name + ".origin is not finite");
+        if (!std::isfinite(d.chartOrigin.x()) || !std::isfinite(d.chartOrigin.y()) || !std::isfinite(d.chartAngle))
+            return Status::invalidArgument(name + ".chartOrigin and .chartAngle must be finite");
         if (!isFinite(d.uAxis) || std::abs(d.uAxis.norm() - 1.0) > 1e-9) {
             return Status::invalidArgument(name + ".uAxis must be a unit vector");
         }
@@ -147,11 +189,18 @@ Result<GarmentPattern> GarmentPattern::cape(double width, double height, double 
     return pattern;
 }
 
-Result<GarmentPattern> GarmentPattern::skirt(double circumference, double length, double cellSize) {
+Result<GarmentPattern> GarmentPattern::skirt(double circumference, double length, double cellSize,
+                                             double hemCircumference) {
     auto sized = sizedPanel("skirt", "circumference", circumference, "length", length, cellSize, 3);
     if (!sized.isOk()) return sized.status();
     PanelDesc panel = sized.value();
     panel.shape = PanelShape::Tube;
+    if (hemCircumference != 0.0) {
+        panel.hemWidth = hemCircumference;
+        // Columns for the mean circumference: the squares are then within 1:8 at both ends for any
+        // flare up to a full circle.
+        if (std::isfinite(hemCircumference)) panel.columns = squaresFor(0.5 * (circumference + hemCircumference), cellSize, 3);
+    }
     GarmentPattern pattern;
     pattern.panels.push_back(panel);
     if (Status s = pattern.validate(); !s) return s;

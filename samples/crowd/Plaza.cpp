@@ -15,8 +15,9 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
     plaza.mExtent = 0.5 * settings.spacing * std::sqrt(double(std::max(settings.characters, 1)));
 
     // A few body variants, shared by the whole crowd (bodies are cooked once, like garments).
-    std::vector<cc::BodyId> bodies;
-    for (int b = 0; b < 6; ++b) {
+    std::vector<cc::BodyId> bodies = settings.bodies;
+    const bool imported = !bodies.empty();
+    for (int b = 0; b < 6 && !imported; ++b) {
         cc::MannequinDesc m;
         m.height = 1.62 + 0.05 * b;
         m.shoulderWidth = 0.37 + 0.01 * (b % 3);
@@ -34,6 +35,12 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
     skirtDesc.width = 1.3;
     skirtDesc.length = 0.6;
     skirtDesc.cellSize = 0.16;
+    if (imported) {
+        // Any body: the sizes come from each one (fitted garments).
+        capeDesc = cc::ClothAssetDesc{};
+        skirtDesc = cc::ClothAssetDesc{};
+        skirtDesc.kind = cc::GarmentKind::Skirt;
+    }
     auto cape = world.addClothAsset(capeDesc);
     if (!cape.isOk()) return cape.status();
     auto skirt = world.addClothAsset(skirtDesc);
@@ -48,12 +55,18 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         w.cz = (2.0 * unit(rng) - 1.0) * plaza.mExtent;
         w.radius = 2.0 + 6.0 * unit(rng);
         w.phase = 2.0 * M_PI * unit(rng);
-        const double speed = idle ? 0.0 : runs ? 4.6 : 1.35;
+        const double speed = imported ? settings.walkSpeed : idle ? 0.0 : runs ? 4.6 : 1.35;
         w.angularSpeed = (unit(rng) < 0.5 ? 1.0 : -1.0) * speed / w.radius;
         cc::CharacterDesc c;
         c.body = bodies[i % bodies.size()];
         c.clip = idle ? "idle" : runs ? "run" : "walk";
         c.clipTime = 3.0 * unit(rng);
+        if (imported) {
+            c.clip = settings.clip.empty() ? nullptr : settings.clip.c_str();
+            c.clipIndex = settings.clip.empty() ? 0 : -1;
+            c.clipTime = 0.0;
+            c.clipPhase = unit(rng);
+        }
         auto character = world.addCharacter(c);
         if (!character.isOk()) return character.status();
         const bool wearsSkirt = unit(rng) < 0.35;

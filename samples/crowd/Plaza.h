@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "crowdcloth/World.h"
@@ -14,10 +15,15 @@ struct PlazaSettings {
     double runnerFraction = 0.1; ///< [-] characters that run
     double idleFraction = 0.1;   ///< [-] characters that stand
     uint32_t seed = 1;
+    /// Imported bodies to dress instead of the mannequins (round robin), each playing `clip` (by
+    /// name; empty = its first clip) while walking its circle, in fitted capes and skirts.
+    std::vector<cc::BodyId> bodies;
+    std::string clip;
+    double walkSpeed = 1.2;      ///< [m/s] imported characters' speed round their circles
 };
 
-/// A plaza of mannequins walking circles, each wearing a cape or a skirt, and a camera that
-/// circles and dollies through it.
+/// A plaza of mannequins (or imported characters) walking circles, each wearing a cape or a
+/// skirt, and a camera that circles and dollies through it.
 class Plaza {
 public:
     static cc::Result<Plaza> create(cc::World& world, const PlazaSettings& settings);

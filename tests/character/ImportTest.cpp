@@ -22,11 +22,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
+fs::path tempDirPath() { return fs::temp_directory_path() / ("cc_import_tests_" + std::to_string(::getpid())); }
+
 fs::path tempDir() {
-    const fs::path dir = fs::temp_directory_path() / ("cc_import_tests_" + std::to_string(::getpid()));
+    const fs::path dir = tempDirPath();
     fs::create_directories(dir);
     return dir;
 }
+
+/// Removes the tests' folder (and every file in it) when the suite ends.
+class TempDirCleanup : public ::testing::Environment {
+public:
+    void TearDown() override {
+        std::error_code ignored;
+        fs::remove_all(tempDirPath(), ignored);
+    }
+};
+const ::testing::Environment* const kCleanup = ::testing::AddGlobalTestEnvironment(new TempDirCleanup);
 
 Mannequin mannequin() {
     Result<Mannequin> m = buildMannequin();
@@ -275,9 +287,12 @@ TEST(Import, MissingEmptyAndUnsupportedFilesAreNamed) {
     const std::string empty = (dir / "empty.glb").string();
     std::ofstream(empty).close();
     expectError(importCharacter(empty), empty, "empty");
+    const std::string unknown = (dir / "thing.xyz").string();
+    std::ofstream(unknown) << "v 0 0 0\n";
+    expectError(importCharacter(unknown), unknown, "unsupported");
     const std::string obj = (dir / "thing.obj").string();
     std::ofstream(obj) << "v 0 0 0\n";
-    expectError(importCharacter(obj), obj, "unsupported");
+    expectError(importCharacter(obj), obj, "");  // a supported format, but no triangle in it
     expectError(importCharacter(dir.string()), dir.string(), "regular file");
 }
 

@@ -378,16 +378,20 @@ struct Batch {
 
     SubstepSettings settings;
 
-    explicit Batch(int lanes, SubstepMethod method = SubstepMethod::Newton) {
+    /// stiffBending: a plate (B = 1 N m) stepped whole, so its bending joins the factor.
+    explicit Batch(int lanes, SubstepMethod method = SubstepMethod::Newton, bool stiffBending = false) {
         settings.method = method;
-        settings.substeps = method == SubstepMethod::Newton ? 4 : 10;
+        settings.substeps = stiffBending ? 1 : method == SubstepMethod::Newton ? 4 : 10;
+        ClothMaterial material;
+        if (stiffBending) material.bendStiffness = 1.0;
         settings.iterations = method == SubstepMethod::Newton ? 4 : 1;
         settings.strainLimit = 0.05;
         settings.contactThickness = 0.004;
         const RectanglePanel panel = test::horizontalSheet(6);
         const ClothMesh mesh = panel.build().value();
-        level = ClothLevel::cookMesh(mesh, ClothMaterial{}, farCorners(panel)).value();
+        level = ClothLevel::cookMesh(mesh, material, farCorners(panel)).value();
         factor = level->buildFactor(1.0 / 60.0 / settings.substeps).value();
+        EXPECT_EQ(factor->includesBending(), stiffBending);
         std::mt19937 random(3);
         std::uniform_real_distribution<double> u(-0.02, 0.02);
         for (int l = 0; l < lanes; ++l) {
@@ -436,16 +440,19 @@ struct Batch {
 } // namespace
 
 TEST(SubstepSolver, ALaneGivesTheSameBitsAloneAndInEveryBatch) {
-    for (SubstepMethod method : {SubstepMethod::Newton, SubstepMethod::LocalGlobal}) {
-        Batch alone(8, method);
+    for (int variant = 0; variant < 4; ++variant) {
+        const SubstepMethod method = variant % 2 == 0 ? SubstepMethod::Newton : SubstepMethod::LocalGlobal;
+        const bool stiffBending = variant >= 2;
+        Batch alone(8, method, stiffBending);
         for (int l = 0; l < 8; ++l) alone.step({l}, 20);
         for (const std::vector<int>& batch :
              std::vector<std::vector<int>>{{0, 1}, {2, 3, 4}, {5, 6, 7, 0}, {0, 1, 2, 3, 4, 5, 6, 7}}) {
-            Batch together(8, method);
+            Batch together(8, method, stiffBending);
             together.step(batch, 20);
             for (int l : batch) {
                 EXPECT_TRUE(sameBits(together.positions[l], alone.positions[l]))
-                    << "lane " << l << " of a batch of " << batch.size() << ", method " << int(method);
+                    << "lane " << l << " of a batch of " << batch.size() << ", method " << int(method)
+                    << (stiffBending ? ", bending in the factor" : "");
                 EXPECT_TRUE(sameBits(together.velocities[l], alone.velocities[l])) << "lane " << l;
             }
         }

@@ -4,9 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <unistd.h>
+
 #include "crowdcloth/Version.h"
 #include "crowdcloth/World.h"
+#include "crowdcloth/character/Mannequin.h"
 #include "crowdcloth/crowdcloth.h"
+#include "crowdcloth/crowdcloth_import.h"
+#include "crowdcloth/import/CharacterIO.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
@@ -41,6 +47,10 @@ TEST(CApi, DescDefaultsAreTheCppDefaults) {
     EXPECT_EQ(a.thickness, ca.thickness);
     EXPECT_EQ(a.friction, ca.friction);
     EXPECT_EQ(a.fold_radius, ca.foldRadius);
+    EXPECT_EQ(a.cut, cc_garment_cut(ca.cut));
+    EXPECT_EQ(a.relative_length, ca.relativeLength);
+    EXPECT_EQ(a.hem_width, ca.hemWidth);
+    EXPECT_EQ(a.ease, ca.ease);
 
     cc_mannequin_desc m;
     cc_mannequin_desc_init(&m);
@@ -58,6 +68,23 @@ TEST(CApi, DescDefaultsAreTheCppDefaults) {
     EXPECT_EQ(c.clip_time, cc.clipTime);
     EXPECT_EQ(c.playback_rate, cc.playbackRate);
     EXPECT_EQ(c.yaw, cc.yaw);
+    EXPECT_EQ(c.clip_index, cc.clipIndex);
+    EXPECT_EQ(c.clip_phase, cc.clipPhase);
+
+    cc_body_desc b;
+    cc_body_desc_init(&b);
+    EXPECT_EQ(b.height, BodyDesc{}.height);
+    cc_body_landmarks l;
+    cc_body_landmarks_init(&l);
+    const BodyLandmarkDesc cl;
+    EXPECT_EQ(l.waist_y, cl.waistY);
+    EXPECT_EQ(l.forward[2], cl.forward[2]);
+    cc_import_settings is;
+    cc_import_settings_init(&is);
+    const ImportSettings cis;
+    EXPECT_EQ(is.isolate != 0, cis.isolate);
+    EXPECT_EQ(is.unit_scale, cis.unitScale);
+    EXPECT_EQ(is.timeout_seconds, cis.timeoutSeconds);
 
     cc_garment_desc g;
     cc_garment_desc_init(&g);
@@ -67,6 +94,83 @@ TEST(CApi, DescDefaultsAreTheCppDefaults) {
     cc_camera_desc_init(&cam);
     EXPECT_EQ(0, std::memcmp(cam.view_projection, CameraDesc{}.viewProjection, sizeof(cam.view_projection)));
     EXPECT_EQ(cc_get_version(), kVersion);
+}
+
+/// A character file through the C API: a body the world skins, its clips by index, a garment
+/// fitted to it, and errors that name the file or the clip.
+TEST(CApi, BodiesFromFilesWearFittedGarments) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("cc_capi_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ignored;
+            fs::remove_all(dir, ignored);
+        }
+    } cleanup{dir};
+    const std::string file = (dir / "mannequin.glb").string();
+    ASSERT_TRUE(exportCharacter(buildMannequin().value().character, file).isOk());
+
+    cc_world_desc wd;
+    cc_world_desc_init(&wd);
+    wd.fixed_cost_model = 1;
+    cc_world* world = nullptr;
+    ASSERT_EQ(cc_world_create(&wd, &world), CC_OK);
+    cc_body_id body;
+    const std::string missing = (dir / "nobody.fbx").string();
+    EXPECT_EQ(cc_world_add_body_from_file(world, missing.c_str(), nullptr, nullptr, &body), CC_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(cc_world_last_error(world)).find(missing), std::string::npos) << cc_world_last_error(world);
+    cc_import_settings is;
+    cc_import_settings_init(&is);
+    cc_body_desc bd;
+    cc_body_desc_init(&bd);
+    bd.height = 1.6;
+    ASSERT_EQ(cc_world_add_body_from_file(world, file.c_str(), &is, &bd, &body), CC_OK) << cc_world_last_error(world);
+    uint32_t clips = 0;
+    ASSERT_EQ(cc_world_get_body_clip_count(world, body, &clips), CC_OK);
+    ASSERT_EQ(clips, 3u);
+    int walk = -1;
+    for (uint32_t c = 0; c < clips; ++c) {
+        const char* name = nullptr;
+        ASSERT_EQ(cc_world_get_body_clip_name(world, body, c, &name), CC_OK);
+        if (std::string(name) == "walk") walk = int(c);
+    }
+    ASSERT_GE(walk, 0);
+    cc_body_landmarks landmarks;
+    ASSERT_EQ(cc_world_get_body_landmarks(world, body, &landmarks), CC_OK) << cc_world_last_error(world);
+    EXPECT_GT(landmarks.waist_girth, 0.4);
+    EXPECT_LT(landmarks.neck_y, 1.6);
+
+    cc_character_desc cd;
+    cc_character_desc_init(&cd);
+    cd.body = body;
+    cd.clip = "moonwalk";
+    cc_character_id character;
+    EXPECT_EQ(cc_world_add_character(world, &cd, &character), CC_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(cc_world_last_error(world)).find("no clip named 'moonwalk'"), std::string::npos);
+    cd.clip_index = walk;
+    cd.clip_phase = 0.25;
+    ASSERT_EQ(cc_world_add_character(world, &cd, &character), CC_OK) << cc_world_last_error(world);
+    cc_cloth_asset_desc ad;
+    cc_cloth_asset_desc_init(&ad);
+    ad.kind = CC_GARMENT_SKIRT;
+    cc_asset_id asset;
+    ASSERT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_OK);
+    cc_garment_desc gd;
+    cc_garment_desc_init(&gd);
+    cc_garment_id garment;
+    ASSERT_EQ(cc_world_add_garment(world, asset, character, &gd, &garment), CC_OK) << cc_world_last_error(world);
+    cc_cloth_asset_desc fit;
+    ASSERT_EQ(cc_world_get_garment_fit(world, garment, &fit), CC_OK);
+    EXPECT_NEAR(fit.width, landmarks.waist_girth + ad.ease, 0.15) << "the waist ring is the waist plus ease";
+    EXPECT_NEAR(fit.length, 0.3 * 1.6, 0.05) << "the default skirt is 0.3 body heights long";
+    for (int f = 0; f < 10; ++f) ASSERT_EQ(cc_world_step(world, 1.0 / 60.0), CC_OK) << cc_world_last_error(world);
+    cc_garment_stats gs;
+    ASSERT_EQ(cc_world_get_garment_stats(world, garment, &gs), CC_OK);
+    EXPECT_EQ(gs.failed, 0);
+    EXPECT_LT(gs.max_attachment_error, 1e-3);
+    cc_world_destroy(world);
 }
 
 /// The same walk through the C API and the C++ API gives the same state hash.

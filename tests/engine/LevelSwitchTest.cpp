@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "CookedAsset.h"
+#include "GarmentFit.h"
 #include "GarmentInstance.h"
 #include "support/AllocationCounter.h"
 
@@ -22,7 +23,7 @@ struct Scene {
         EXPECT_TRUE(character.updatePose().isOk());
         ClothAssetDesc desc;
         desc.kind = kind;
-        asset = std::make_shared<const CookedAsset>(cookClothAsset(desc).value());
+        asset = std::make_shared<const CookedAsset>(cookFittedGarment(desc, *body).value());  // as the World does
         garment = GarmentInstance::create(asset, 1, character, CharacterId{1, 1}, {}).value();
     }
 };

@@ -70,9 +70,10 @@ namespace {
 // compressed rows: cell c holds triangles mItems[mStart[c] .. mStart[c + 1]).
 class TriangleGrid {
 public:
-    TriangleGrid(const SkinnedMesh& body, double cell, double padding) : mBody(body) {
-        Vec3 lo = body.bindPositions[0], hi = lo;
-        for (const Vec3& q : body.bindPositions) {
+    TriangleGrid(const SkinnedMesh& body, Span<const Vec3> positions, double cell, double padding)
+        : mBody(body), mPositions(positions) {
+        Vec3 lo = positions[0], hi = lo;
+        for (const Vec3& q : positions) {
             lo = lo.cwiseMin(q);
             hi = hi.cwiseMax(q);
         }
@@ -91,10 +92,10 @@ public:
         std::vector<uint32_t> counts(cells + 1, 0);
         const auto forCells = [&](std::size_t t, auto&& fn) {
             const auto& tri = body.triangles[t];
-            Vec3 tlo = body.bindPositions[tri[0]], thi = tlo;
+            Vec3 tlo = positions[tri[0]], thi = tlo;
             for (int k = 1; k < 3; ++k) {
-                tlo = tlo.cwiseMin(body.bindPositions[tri[static_cast<std::size_t>(k)]]);
-                thi = thi.cwiseMax(body.bindPositions[tri[static_cast<std::size_t>(k)]]);
+                tlo = tlo.cwiseMin(positions[tri[static_cast<std::size_t>(k)]]);
+                thi = thi.cwiseMax(positions[tri[static_cast<std::size_t>(k)]]);
             }
             const auto c0 = cellOf(tlo), c1 = cellOf(thi);
             for (int z = c0[2]; z <= c1[2]; ++z)
@@ -136,8 +137,8 @@ public:
                             mStamp[t] = mQuery;
                             const auto& tri = mBody.triangles[t];
                             std::array<double, 3> bary;
-                            const Vec3 q = closestPointOnTriangle(p, mBody.bindPositions[tri[0]], mBody.bindPositions[tri[1]],
-                                                                  mBody.bindPositions[tri[2]], bary);
+                            const Vec3 q = closestPointOnTriangle(p, mPositions[tri[0]], mPositions[tri[1]],
+                                                                  mPositions[tri[2]], bary);
                             const double d = (q - p).norm();
                             if (d < best || (d == best && t < outTriangle)) {
                                 best = d;
@@ -170,6 +171,7 @@ private:
     }
 
     const SkinnedMesh& mBody;
+    Span<const Vec3> mPositions;
     double mCell = 1.0;
     Vec3 mLo = Vec3::Zero();
     int mDims[3] = {1, 1, 1};
@@ -181,37 +183,54 @@ private:
 
 Result<SkinBinding> SkinBinding::bind(const SkinnedMesh& body, Span<const Vec3> garmentBindPositions,
                                       const SkinBindingSettings& settings) {
+    return bindAt(body, body.bindPositions, {}, garmentBindPositions, settings);
+}
+
+Result<SkinBinding> SkinBinding::bindPosed(const SkinnedMesh& body, Span<const Vec3> posedPositions,
+                                           Span<const Mat4> skinMatrices, Span<const Vec3> garmentPositions,
+                                           const SkinBindingSettings& settings) {
+    if (posedPositions.size() != body.vertexCount())
+        return Status::invalidArgument("SkinBinding::bindPosed: " + std::to_string(posedPositions.size()) +
+                                       " posed positions for a body of " + std::to_string(body.vertexCount()));
+    if (skinMatrices.size() != body.inverseBindMatrices.size())
+        return Status::invalidArgument("SkinBinding::bindPosed: " + std::to_string(skinMatrices.size()) +
+                                       " skin matrices for " + std::to_string(body.inverseBindMatrices.size()) + " joints");
+    return bindAt(body, posedPositions, skinMatrices, garmentPositions, settings);
+}
+
+Result<SkinBinding> SkinBinding::bindAt(const SkinnedMesh& body, Span<const Vec3> positions, Span<const Mat4> skinMatrices,
+                                        Span<const Vec3> garmentPositions, const SkinBindingSettings& settings) {
     Status s = settings.validate();
     if (!s) return s;
     s = body.validate(body.inverseBindMatrices.size());
     if (!s) return Status::invalidArgument("SkinBinding::bind: " + s.message());
     if (body.triangles.empty()) return Status::invalidArgument("SkinBinding::bind: body has no triangles");
-    for (std::size_t i = 0; i < garmentBindPositions.size(); ++i) {
-        if (!isFinite(garmentBindPositions[i])) {
+    for (std::size_t i = 0; i < garmentPositions.size(); ++i) {
+        if (!isFinite(garmentPositions[i])) {
             return Status::invalidArgument("SkinBinding::bind: garment vertex " + std::to_string(i) + " is not finite");
         }
     }
     double cell = settings.gridCell;
     if (cell == 0.0) {
         double sum = 0.0;
-        for (const auto& tri : body.triangles) sum += (body.bindPositions[tri[1]] - body.bindPositions[tri[0]]).norm();
+        for (const auto& tri : body.triangles) sum += (positions[tri[1]] - positions[tri[0]]).norm();
         cell = std::max(2.0 * sum / static_cast<double>(body.triangles.size()), 1e-4);
     }
-    TriangleGrid grid(body, cell, settings.maxBindDistance);
+    TriangleGrid grid(body, positions, cell, settings.maxBindDistance);
 
     SkinBinding binding;
     binding.mBodyVertexCount = body.vertexCount();
     binding.mBodyTriangleCount = body.triangles.size();
-    binding.mVertices.resize(garmentBindPositions.size());
-    for (std::size_t i = 0; i < garmentBindPositions.size(); ++i) {
+    binding.mVertices.resize(garmentPositions.size());
+    for (std::size_t i = 0; i < garmentPositions.size(); ++i) {
         BoundVertex& bv = binding.mVertices[i];
         Vec3 point = Vec3::Zero();
-        if (!grid.closest(garmentBindPositions[i], settings.maxBindDistance, bv.triangle, point, bv.barycentric)) {
+        if (!grid.closest(garmentPositions[i], settings.maxBindDistance, bv.triangle, point, bv.barycentric)) {
             return Status::invalidArgument("SkinBinding::bind: garment vertex " + std::to_string(i) +
                                            " is farther than maxBindDistance " +
                                            std::to_string(settings.maxBindDistance) + " m from the body");
         }
-        bv.offset = garmentBindPositions[i] - point;
+        bv.offset = garmentPositions[i] - point;
         detail::TopWeights top;
         const auto& tri = body.triangles[bv.triangle];
         for (int c = 0; c < 3; ++c) {
@@ -224,6 +243,20 @@ Result<SkinBinding> SkinBinding::bind(const SkinnedMesh& body, Span<const Vec3> 
         if (!top.write(bv.joints, bv.weights)) {
             return Status::invalidArgument("SkinBinding::bind: body triangle " + std::to_string(bv.triangle) +
                                            " has no skin weights");
+        }
+        if (!skinMatrices.empty()) {
+            // evaluate() carries the offset with the point's blended skin matrix: store it in bind
+            // space so the binding reproduces the posed position at the pose it was made in.
+            Mat3 a = Mat3::Zero();
+            for (int k = 0; k < kMaxInfluences; ++k) {
+                const double w = bv.weights[static_cast<std::size_t>(k)];
+                if (w != 0.0) a += w * skinMatrices[bv.joints[static_cast<std::size_t>(k)]].topLeftCorner<3, 3>();
+            }
+            const Eigen::FullPivLU<Mat3> lu(a);
+            if (!lu.isInvertible())
+                return Status::invalidArgument("SkinBinding::bindPosed: the skin at body triangle " +
+                                               std::to_string(bv.triangle) + " is degenerate");
+            bv.offset = lu.solve(bv.offset);
         }
     }
     return binding;

@@ -16,6 +16,8 @@
 #include <assimp/scene.h>
 
 #include "AssimpConvert.h"
+#include "ImportFormats.h"
+#include "IsolatedImport.h"
 
 namespace cc {
 namespace {
@@ -37,11 +39,13 @@ class Reader {
 public:
     Reader(std::string path, const ImportSettings& settings) : mPath(std::move(path)), mSettings(settings) {}
 
+    /// Checks the file (exists, size, format signature): done in this process, before any parser.
+    Status checkFile();
+    /// Parses it with assimp and converts (in the child process when isolated).
     Result<Character> read();
 
 private:
     Status fail(const std::string& what) const { return Status::invalidArgument(mPath + ": " + what); }
-    Status checkFile() const;
     Status collectNodes(const aiNode* node, int32_t parent, std::size_t depth);
     Status readMeshes(const aiScene& scene);
     Status readClips(const aiScene& scene);
@@ -49,12 +53,15 @@ private:
 
     std::string mPath;
     ImportSettings mSettings;
+    const detail::ImportFormat* mFormat = nullptr;
+    double mFormatTicksPerSecond = 0.0;  // the format's key rate where assimp's is wrong
+    std::string mHead;  // the file's first bytes (all of it for binary formats checked by structure)
     Character mCharacter;
     std::vector<const aiNode*> mNodes;   // per joint
     std::vector<Mat4> mRestGlobal;       // per joint, file rest pose
 };
 
-Status Reader::checkFile() const {
+Status Reader::checkFile() {
     struct stat st {};
     if (::stat(mPath.c_str(), &st) != 0) return fail("file not found");
     if (!S_ISREG(st.st_mode)) return fail("not a regular file");
@@ -63,36 +70,19 @@ Status Reader::checkFile() const {
     if (size > mSettings.maxFileBytes) {
         return fail("file has " + std::to_string(size) + " bytes, more than the cap " + std::to_string(mSettings.maxFileBytes));
     }
-    const std::string ext = lowerExtension(mPath);
+    mFormat = detail::formatOf(mPath);
+    if (!mFormat) {
+        return fail("unsupported format '." + lowerExtension(mPath) + "' (supported: " + detail::supportedExtensions() + ")");
+    }
     std::ifstream in(mPath, std::ios::binary);
     if (!in) return fail("cannot open the file for reading");
-    std::string head(std::min<std::size_t>(size, 65536), '\0');
-    in.read(head.data(), static_cast<std::streamsize>(head.size()));
-    if (ext == "glb") {
-        // GLB header: magic "glTF", version, total length (little endian).
-        if (size < 12 || head.compare(0, 4, "glTF") != 0) return fail("not a binary glTF file (no 'glTF' magic)");
-        uint32_t version = 0, length = 0;
-        std::memcpy(&version, head.data() + 4, 4);
-        std::memcpy(&length, head.data() + 8, 4);
-        if (version != 2) return fail("unsupported binary glTF version " + std::to_string(version) + " (need 2)");
-        if (length != size) {
-            return fail(std::string(length > size ? "truncated" : "malformed") + ": GLB header declares " +
-                        std::to_string(length) + " bytes, the file has " + std::to_string(size));
-        }
-    } else if (ext == "gltf") {
-        const auto first = head.find_first_not_of(" \t\r\n\xef\xbb\xbf");
-        if (first == std::string::npos || head[first] != '{') return fail("not a glTF JSON file (does not start with '{')");
-    } else if (ext == "dae") {
-        if (head.find("<COLLADA") == std::string::npos) return fail("not a Collada file (no <COLLADA> element)");
-    } else if (ext == "fbx") {
-        const bool binary = head.compare(0, 18, "Kaydara FBX Binary") == 0;
-        if (!binary && head.find("FBXHeaderExtension") == std::string::npos) {
-            return fail("not an FBX file (neither the binary signature nor an ASCII FBXHeaderExtension)");
-        }
-    } else {
-        return fail("unsupported format '." + ext + "' (supported: .glb, .gltf, .fbx, .dae)");
-    }
-    return Status::ok();
+    // Binary formats checked by their structure are read whole; the rest by their first bytes.
+    const std::string ext = lowerExtension(mPath);
+    const bool whole = ext == "b3d" || ext == "ms3d" || ext == "md5mesh" || ext == "smd" || ext == "vta";
+    mHead.assign(whole ? size : std::min<std::size_t>(size, 65536), '\0');
+    in.read(mHead.data(), static_cast<std::streamsize>(mHead.size()));
+    if (std::size_t(in.gcount()) != mHead.size()) return fail("cannot read the file");
+    return detail::checkSignature(*mFormat, mHead, mPath, size);
 }
 
 Status Reader::collectNodes(const aiNode* node, int32_t parent, std::size_t depth) {
@@ -342,7 +332,9 @@ Status Reader::readClips(const aiScene& scene) {
         AnimationClip clip;
         clip.name = anim->mName.length > 0 ? anim->mName.C_Str() : "clip" + std::to_string(a);
         const std::string where = "animation '" + clip.name + "'";
-        const double tps = anim->mTicksPerSecond != 0.0 ? anim->mTicksPerSecond : kTicksPerSecondFallback;
+        double tps = anim->mTicksPerSecond != 0.0 ? anim->mTicksPerSecond : kTicksPerSecondFallback;
+        if (mFormatTicksPerSecond > 0.0) tps = mFormatTicksPerSecond;
+        if (mSettings.ticksPerSecond > 0.0) tps = mSettings.ticksPerSecond;
         if (!std::isfinite(tps) || tps < 0.0 || !std::isfinite(anim->mDuration)) return fail(where + ": bad ticks per second or duration");
         if (anim->mNumChannels > kMaxJoints || (anim->mNumChannels > 0 && !anim->mChannels)) return fail(where + ": bad channel list");
         double first = std::numeric_limits<double>::infinity(), last = 0.0;
@@ -419,11 +411,15 @@ Status Reader::readClips(const aiScene& scene) {
     return Status::ok();
 }
 
-// FBX keeps its axes and units in metadata: map them to Y up, metres.
+// Units and axes: the file's own metadata (FBX, OpenGEX) where it has some, else the format's
+// convention, unless the settings force them. glTF and Collada arrive in metres, Y up (assimp
+// applies Collada's <unit> and <up_axis>).
 Status Reader::applyAxisAndUnits(const aiScene& scene) {
     double scale = mSettings.unitScale;
     Mat3 axes = Mat3::Identity();
-    if (lowerExtension(mPath) == "fbx" && scene.mMetaData) {
+    bool zUp = mFormat->zUp;
+    const std::string ext = lowerExtension(mPath);
+    if (ext == "fbx" && scene.mMetaData) {
         const aiMetadata& md = *scene.mMetaData;
         if (scale == 0.0) {
             double unit = 0.0;
@@ -452,8 +448,24 @@ Status Reader::applyAxisAndUnits(const aiScene& scene) {
         fileAxes(front, 2) = frontSign < 0 ? -1.0 : 1.0;
         axes = fileAxes.transpose();
         if (axes.determinant() < 0.0) axes.row(0) *= -1.0; // keep a rotation: flip the side axis
+    } else if (ext == "ogex") {
+        std::ifstream in(mPath, std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        double metres = 0.0;
+        bool metricZUp = false;
+        if (detail::openGexMetrics(text, metres, metricZUp)) {
+            if (scale == 0.0 && metres > 0.0) scale = metres;
+            zUp = metricZUp;
+        }
     }
-    if (scale == 0.0) scale = 1.0;
+    if (scale == 0.0) scale = mFormat->unitFromFile ? 1.0 : mFormat->unitScale;
+    if (mSettings.upAxis != ImportUpAxis::FromFile) zUp = mSettings.upAxis == ImportUpAxis::Z;
+    if (zUp) {
+        // File +Z up, +Y forward... turned so that file +Z is +Y and file +Y is -Z.
+        Mat3 turn;
+        turn << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+        axes = turn * axes;
+    }
     if (!std::isfinite(scale) || !(scale > 0.0)) return fail("unit scale must be positive");
     if (scale == 1.0 && axes == Mat3::Identity()) return Status::ok();
 
@@ -462,11 +474,6 @@ Status Reader::applyAxisAndUnits(const aiScene& scene) {
 }
 
 Result<Character> Reader::read() {
-    Status s = mSettings.validate();
-    if (!s) return fail(s.message());
-    s = checkFile();
-    if (!s) return s;
-
     Assimp::Importer importer;
     // Points and lines are dropped; bone weights are limited here, not by assimp (which would
     // renormalise before the sum check).
@@ -477,8 +484,20 @@ Result<Character> Reader::read() {
     if (!scene) return fail(std::string("assimp could not read it: ") + importer.GetErrorString());
     if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) return fail("the scene is incomplete (assimp flagged it)");
     if (!scene->mRootNode) return fail("the scene has no root node");
+    if (mFormat->content == detail::FormatContent::Animation || scene->mNumMeshes == 0)
+        return fail(std::string(mFormat->name) + " file without a mesh: it holds " +
+                    (scene->mNumAnimations > 0 ? "animation only" : "nothing") + ", not a body");
 
-    s = collectNodes(scene->mRootNode, -1, 0);
+    mFormatTicksPerSecond = mFormat->ticksPerSecond;
+    if (lowerExtension(mPath) == "md5mesh") {
+        // The clips come from the .md5anim beside the mesh; its frame rate is what the keys count.
+        std::ifstream anim(mPath.substr(0, mPath.size() - 4) + "anim", std::ios::binary);
+        std::string text(std::min<std::size_t>(mSettings.maxFileBytes, 65536), '\0');
+        anim.read(text.data(), std::streamsize(text.size()));
+        text.resize(std::size_t(std::max<std::streamsize>(anim.gcount(), 0)));
+        mFormatTicksPerSecond = detail::md5FrameRate(text);
+    }
+    Status s = collectNodes(scene->mRootNode, -1, 0);
     if (s) s = readMeshes(*scene);
     if (s) s = readClips(*scene);
     if (s) s = applyAxisAndUnits(*scene);
@@ -499,13 +518,21 @@ Status ImportSettings::validate() const {
     if (!std::isfinite(unitScale) || unitScale < 0.0) {
         return Status::invalidArgument("ImportSettings.unitScale must be finite and >= 0");
     }
+    if (uint32_t(upAxis) > uint32_t(ImportUpAxis::Z)) return Status::invalidArgument("ImportSettings.upAxis is unknown");
     if (maxFileBytes == 0) return Status::invalidArgument("ImportSettings.maxFileBytes must be > 0");
+    if (!(std::isfinite(ticksPerSecond) && ticksPerSecond >= 0.0 && ticksPerSecond <= 1e6))
+        return Status::invalidArgument("ImportSettings.ticksPerSecond must be in [0, 1e6]");
+    if (!(std::isfinite(timeoutSeconds) && timeoutSeconds > 0.0 && timeoutSeconds <= 3600.0))
+        return Status::invalidArgument("ImportSettings.timeoutSeconds must be in (0, 3600]");
     return Status::ok();
 }
 
 Result<Character> importCharacter(const std::string& path, const ImportSettings& settings) {
+    if (Status s = settings.validate(); !s) return Status::invalidArgument(path + ": " + s.message());
     Reader reader(path, settings);
-    return reader.read();
+    if (Status s = reader.checkFile(); !s) return s;
+    if (!settings.isolate) return reader.read();
+    return detail::readIsolated([&] { return reader.read(); }, path, settings.timeoutSeconds, settings.maxMemoryBytes);
 }
 
 } // namespace cc

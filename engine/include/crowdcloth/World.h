@@ -8,6 +8,8 @@
 
 namespace cc {
 
+struct Character;  // engine/character: an imported or generated character (skeleton, skin, clips)
+
 using AssetId = cc_asset_id;
 using BodyId = cc_body_id;
 using CharacterId = cc_character_id;
@@ -55,17 +57,42 @@ struct WorldDesc {
 };
 
 enum class GarmentKind : uint32_t {
-    Cape = 0,    ///< a rectangle hung from the shoulders behind the back
+    Cape = 0,    ///< hangs from the back of the neck, over the shoulders and down the back
     Skirt = 1,   ///< a tube hung from the waist
-    Dress = 2,   ///< front and back panels sewn along both sides, hung from the shoulders
-    Poncho = 3,  ///< front and back panels sewn over the shoulders
+    Dress = 2,   ///< front and back panels sewn along both sides, hung from the chest under the arms
+    Poncho = 3,  ///< a tube hung from the neck over the shoulders, all round
 };
 
-/// A garment design, cooked once and shared by every character that wears it.
+/// How a garment's panels are cut (the pattern's flare).
+enum class GarmentCut : uint32_t {
+    Straight = 0,  ///< as wide at the hem as where it hangs from (the old rectangles and tubes); a
+                   ///< skirt or dress cut as wide as the body below needs, a poncho widening as
+                   ///< far as it must to pass over the arms
+    ALine = 1,     ///< widening to the hem: a skirt or dress then clears the legs in a stride, a cape
+                   ///< or poncho spreads over the back and arms
+    Circle = 2,    ///< as much flare as cloth can be cut with: a circle skirt (its pattern an annulus),
+                   ///< a half-circle cape
+};
+
+/// A garment design, cooked for every body that wears it (once per body) and shared by every
+/// character with that body. Sizes left at 0 are fitted to the body: measured from its skeleton
+/// and geometry (or the landmarks a host hands in, see setBodyLandmarks). Sizes given are checked
+/// against the body: a skirt whose waist is smaller than the wearer's gives an error.
 struct ClothAssetDesc {
     GarmentKind kind = GarmentKind::Cape;
-    double width = 0.8;              ///< [m] panel width (skirt: waist circumference); (0, 10]
-    double length = 1.0;             ///< [m] from the attachment down; (0, 10]
+    GarmentCut cut = GarmentCut::ALine;
+    double width = 0.0;              ///< [m] where it hangs from the body: cape across the shoulders
+                                     ///< (along the back, tip to tip); skirt the waist, dress the chest,
+                                     ///< poncho round the shoulders (circumferences); 0 = fitted (the
+                                     ///< body's plus ease); [0, 10]
+    double length = 0.0;             ///< [m] from where it hangs down to the hem; 0 = relativeLength
+                                     ///< body heights; [0, 10]
+    double relativeLength = 0.0;     ///< [body heights] length when `length` is 0; 0 = the kind's
+                                     ///< default (cape 0.5, skirt 0.3, dress 0.45, poncho 0.3); [0, 1]
+    double hemWidth = 0.0;           ///< [m] width of the hem (circumference for a skirt, dress or
+                                     ///< poncho, along the cloth for a cape); 0 = the cut's; [0, 50]
+    double ease = 0.04;              ///< [m] girth added to the body's where the garment hangs (and
+                                     ///< clearance elsewhere); [0, 0.5]
     double cellSize = 0.2;           ///< [m] base (level 0) grid spacing; (0, 1]
     uint32_t levelCount = 5;         ///< [-] uniform levels 0..levelCount-1, each halving triangle
                                      ///< area; [1, 10]
@@ -91,11 +118,39 @@ struct MannequinDesc {
     double limbGirth = 1.0;       ///< [-] [0.6, 1.6]
 };
 
+/// How an imported character becomes a body (see World::addCharacterBody).
+struct BodyDesc {
+    double height = 0.0;  ///< [m] scales the character uniformly to this standing height (a rig
+                          ///< authored in other units, a giant); 0 = as authored; [0, 100]
+};
+
+/// Where garments sit on a body, for a host that knows better than the measurements: heights of
+/// the rings garments hang from, in the body's bind space (metres, Y up). Girths and widths left
+/// at 0 are measured at the heights given.
+struct BodyLandmarkDesc {
+    double forward[3] = {0, 0, 1};  ///< horizontal direction the body faces; non-zero
+    double neckY = 0.0;             ///< [m] base of the neck (a cape's or poncho's collar)
+    double shoulderY = 0.0;         ///< [m] shoulder joints
+    double chestY = 0.0;            ///< [m] under the arms (a dress's top)
+    double waistY = 0.0;            ///< [m] natural waist (a skirt's waistband)
+    double hipY = 0.0;              ///< [m] widest part of the hips
+    double neckGirth = 0.0;         ///< [m] 0 = measured at neckY
+    double chestGirth = 0.0;        ///< [m] 0 = measured at chestY
+    double waistGirth = 0.0;        ///< [m] 0 = measured at waistY
+    double hipGirth = 0.0;          ///< [m] 0 = measured at hipY
+    double shoulderWidth = 0.0;     ///< [m] outer shoulder to outer shoulder; 0 = measured
+};
+
 /// One animated character in the world.
 struct CharacterDesc {
-    BodyId body{};                   ///< from addMannequinBody / addBody
-    const char* clip = "walk";       ///< clip name; nullptr or "" = the rest pose
+    BodyId body{};                   ///< from addMannequinBody / addCharacterBody / addSkinnedBody
+    const char* clip = "walk";       ///< clip name (exact, else ignoring case); nullptr or "" = the
+                                     ///< rest pose; ignored when clipIndex >= 0
+    int32_t clipIndex = -1;          ///< [-] clip by its index in the body's clips (file order); -1 =
+                                     ///< by name
     double clipTime = 0.0;           ///< [s] where the clip starts; advanced by step(dt)
+    double clipPhase = 0.0;          ///< [-] fraction of the clip's duration added to clipTime (crowds
+                                     ///< out of step); [0, 1]
     double playbackRate = 1.0;       ///< [-] clip seconds per world second; [0, 10]
     double position[3] = {0, 0, 0};  ///< [m] root position on the ground
     double yaw = 0.0;                ///< [rad] heading about +Y (0 faces +Z)
@@ -149,6 +204,8 @@ struct GarmentStats {
     double measuredMs = 0.0;         ///< [ms] measured (0 when not updated)
     double collisionMs = 0.0;        ///< [ms] of measuredMs spent on contacts
     double maxStrain = 0.0;          ///< [-] largest edge strain after the update
+    double maxAttachmentError = 0.0; ///< [m] largest distance of an attached vertex from its skinned
+                                     ///< target after the update
 };
 
 /// Totals of the last frame.
@@ -187,10 +244,26 @@ public:
 
     Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
     Result<BodyId> addMannequinBody(const MannequinDesc& desc);
+    /// An imported (or generated) character as a body the World skins itself, like the mannequin:
+    /// its skeleton is posed by its clips (chosen per character by name or index) and its skin
+    /// drives garments and collisions. The character is copied. Fails naming what is wrong with it;
+    /// a body that is not a humanoid is accepted (it can be posed and drawn) but garments then fail
+    /// with the reason. The character type is declared in crowdcloth/character/Character.h;
+    /// crowdcloth/import/CharacterIO.h reads one from any skinned format assimp reads.
+    Result<BodyId> addCharacterBody(const Character& character, const BodyDesc& desc = {});
     /// A body the host skins itself: bind-pose vertices (xyz floats, `stride` bytes apart) and
     /// triangles; its characters then take setCharacterSkinnedVertices() every frame.
     Result<BodyId> addSkinnedBody(const float* bindPositions, uint32_t vertexCount, uint32_t strideBytes,
                                   const uint32_t* triangles, uint32_t triangleCount);
+
+    /// Replaces the measured landmarks of a body with the host's, for garments added afterwards.
+    Status setBodyLandmarks(BodyId body, const BodyLandmarkDesc& landmarks);
+    /// The landmarks garments on this body are fitted to (measured or handed in), with every girth
+    /// and width filled in; fails with the reason when the body is not a humanoid.
+    Result<BodyLandmarkDesc> bodyLandmarks(BodyId body) const;
+    /// Clip names of a body, in index order (empty for the host-skinned bodies).
+    Result<uint32_t> bodyClipCount(BodyId body) const;
+    Result<const char*> bodyClipName(BodyId body, uint32_t index) const;
 
     Result<CharacterId> addCharacter(const CharacterDesc& desc);
     Status removeCharacter(CharacterId id);  ///< also removes its garments
@@ -220,6 +293,8 @@ public:
     /// drawing and debugging; valid until the next call or step()).
     Result<RenderMeshView> characterMesh(CharacterId id);
     Result<GarmentStats> garmentStats(GarmentId id) const;
+    /// The design as cut for this garment's body: width, length and hemWidth filled in.
+    Result<ClothAssetDesc> garmentFit(GarmentId id) const;
     const FrameStats& frameStats() const;
     /// The last frame's stats (totals and every garment) as a JSON document.
     std::string statsJson() const;

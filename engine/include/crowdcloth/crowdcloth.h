@@ -28,8 +28,9 @@ typedef enum cc_status {
     CC_OUT_OF_MEMORY = 5,
 } cc_status;
 
-/* Stamped into every *_desc by its init function; create/add calls reject unstamped structs. */
-#define CC_DESC_VERSION 0x43430001u
+/* Stamped into every *_desc by its init function; create/add calls reject unstamped structs (and
+ * structs of an older layout). */
+#define CC_DESC_VERSION 0x43430002u
 
 typedef struct cc_world cc_world;
 
@@ -44,11 +45,13 @@ typedef struct cc_world_desc {
 } cc_world_desc;
 
 typedef enum cc_garment_kind { CC_GARMENT_CAPE = 0, CC_GARMENT_SKIRT = 1, CC_GARMENT_DRESS = 2, CC_GARMENT_PONCHO = 3 } cc_garment_kind;
+typedef enum cc_garment_cut { CC_CUT_STRAIGHT = 0, CC_CUT_A_LINE = 1, CC_CUT_CIRCLE = 2 } cc_garment_cut;
 
+/* Sizes left at 0 are fitted to the body that wears the garment (see ClothAssetDesc in World.h). */
 typedef struct cc_cloth_asset_desc {
     uint32_t version;
     cc_garment_kind kind;
-    double width, length, cell_size;   /* [m] */
+    double width, length, cell_size;   /* [m]; width and length 0 = fitted */
     uint32_t level_count, render_level;
     double areal_density;              /* [kg/m^2] */
     double stretch_stiffness;          /* [N/m] */
@@ -58,7 +61,26 @@ typedef struct cc_cloth_asset_desc {
     double thickness;                  /* [m] */
     double friction;                   /* [-] */
     double fold_radius;                /* [m] */
+    cc_garment_cut cut;
+    double relative_length;            /* [body heights] used when length is 0; 0 = the kind's */
+    double hem_width;                  /* [m] 0 = the cut's */
+    double ease;                       /* [m] girth added to the body's */
 } cc_cloth_asset_desc;
+
+/* How an imported character becomes a body. */
+typedef struct cc_body_desc {
+    uint32_t version;
+    double height;           /* [m] scale the character to this height; 0 = as authored */
+} cc_body_desc;
+
+/* Where garments sit on a body (bind space, metres, Y up); girths and widths 0 = measured. */
+typedef struct cc_body_landmarks {
+    uint32_t version;
+    double forward[3];
+    double neck_y, shoulder_y, chest_y, waist_y, hip_y;          /* [m] */
+    double neck_girth, chest_girth, waist_girth, hip_girth;      /* [m] */
+    double shoulder_width;                                       /* [m] */
+} cc_body_landmarks;
 
 typedef struct cc_mannequin_desc {
     uint32_t version;
@@ -69,8 +91,10 @@ typedef struct cc_mannequin_desc {
 typedef struct cc_character_desc {
     uint32_t version;
     cc_body_id body;
-    const char* clip;        /* "idle", "walk", "run"; NULL or "" = rest pose */
+    const char* clip;        /* by name (the mannequin: "idle", "walk", "run"); NULL or "" = rest pose */
+    int32_t clip_index;      /* >= 0: by index into the body's clips, `clip` ignored; -1 = by name */
     double clip_time;        /* [s] */
+    double clip_phase;       /* [-] fraction of the clip's length added to clip_time; [0, 1] */
     double playback_rate;    /* [-] */
     double position[3];      /* [m] */
     double yaw;              /* [rad] */
@@ -108,6 +132,7 @@ typedef struct cc_garment_stats {
     uint32_t contacts, fail_safes;
     int32_t failed;
     double screen_radius_px, predicted_error_px, predicted_ms, measured_ms, collision_ms, max_strain;
+    double max_attachment_error;  /* [m] */
 } cc_garment_stats;
 
 typedef struct cc_frame_stats {
@@ -127,6 +152,8 @@ void cc_mannequin_desc_init(cc_mannequin_desc* desc);
 void cc_character_desc_init(cc_character_desc* desc);
 void cc_garment_desc_init(cc_garment_desc* desc);
 void cc_camera_desc_init(cc_camera_desc* desc);
+void cc_body_desc_init(cc_body_desc* desc);
+void cc_body_landmarks_init(cc_body_landmarks* landmarks);
 
 cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
 void cc_world_destroy(cc_world* world);
@@ -138,6 +165,14 @@ cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* 
 cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
                                     uint32_t stride_bytes, const uint32_t* triangles, uint32_t triangle_count,
                                     cc_body_id* out_body);
+/* Imported characters: crowdcloth/crowdcloth_import.h (the optional import library) adds bodies
+ * from files. Host-skinned bodies without a humanoid shape need the host's landmarks for garments;
+ * landmarks apply to characters added afterwards. */
+cc_status cc_world_set_body_landmarks(cc_world* world, cc_body_id body, const cc_body_landmarks* landmarks);
+cc_status cc_world_get_body_landmarks(const cc_world* world, cc_body_id body, cc_body_landmarks* out_landmarks);
+cc_status cc_world_get_body_clip_count(const cc_world* world, cc_body_id body, uint32_t* out_count);
+/* Name of clip `index` of a body; valid as long as the world. */
+cc_status cc_world_get_body_clip_name(const cc_world* world, cc_body_id body, uint32_t index, const char** out_name);
 cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
 cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
 cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
@@ -151,6 +186,8 @@ cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
 cc_status cc_world_step(cc_world* world, double dt);
 cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
 cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
+/* The design as cut for the garment's body (width, length, hem_width filled in). */
+cc_status cc_world_get_garment_fit(const cc_world* world, cc_garment_id garment, cc_cloth_asset_desc* out_desc);
 cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats* out_stats);
 /* JSON text of the last frame's stats; valid until the next call on the world. */
 cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);

@@ -53,6 +53,14 @@ public:
     static Result<SkinBinding> bind(const SkinnedMesh& body, Span<const Vec3> garmentBindPositions,
                                     const SkinBindingSettings& settings = {});
 
+    /// Binds positions given with the body in a pose (`posedPositions`: the body skinned by
+    /// `skinMatrices`), for bodies whose bind-space mesh is not one coherent shape (a file whose
+    /// rigid parts sit at their rest place and skinned parts at their bind place): evaluate() with
+    /// the same skin matrices gives the positions back. Otherwise as bind().
+    static Result<SkinBinding> bindPosed(const SkinnedMesh& body, Span<const Vec3> posedPositions,
+                                         Span<const Mat4> skinMatrices, Span<const Vec3> garmentPositions,
+                                         const SkinBindingSettings& settings = {});
+
     std::size_t size() const { return mVertices.size(); }
     const std::vector<BoundVertex>& vertices() const { return mVertices; }
 
@@ -74,6 +82,8 @@ public:
                            Span<Vec3> outSurfaceNormals) const;
 
 private:
+    static Result<SkinBinding> bindAt(const SkinnedMesh& body, Span<const Vec3> positions, Span<const Mat4> skinMatrices,
+                                      Span<const Vec3> garmentPositions, const SkinBindingSettings& settings);
     Status checkSizes(const SkinnedMesh& body, Span<Vec3> outTargets, Span<Vec3> outSurfacePoints,
                       Span<Vec3> outSurfaceNormals) const;
 

@@ -1,0 +1,22 @@
+#pragma once
+
+#include <string>
+
+#include "crowdcloth/World.h"
+#include "crowdcloth/crowdcloth.h"
+
+/// The C handle: the C++ world plus the strings the C API hands out. Internal: shared with the
+/// optional import library's C functions (crowdcloth_import.h), which add bodies to it.
+struct cc_world {
+    cc::World* world = nullptr;
+    std::string lastError;
+    std::string json;
+};
+
+namespace cc::detail {
+
+cc_status toCStatus(StatusCode code);
+/// Records the status as the world's last error (or clears it) and returns its C code.
+cc_status reportToC(const cc_world* world, const Status& status);
+
+} // namespace cc::detail

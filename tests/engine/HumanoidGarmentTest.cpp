@@ -1,0 +1,213 @@
+// Every garment kind, fitted to the mannequin and to the shared humanoids, through the World on
+// their walk, run and dance clips at 60 Hz (and some at 30 Hz). Checked independently of the
+// solver: attachments on their skinned targets, nothing non-finite, no failed update; reported:
+// the largest edge strain and how deep garment vertices got inside the body (generalised winding
+// number over the posed body).
+//
+// Holding the strain limit and the thickness under contact and fast limbs is the solver's job; the
+// current one does not everywhere (see the printed figures). DISABLED_WithinStrainAndThickness
+// asserts both for every case: run it with --gtest_also_run_disabled_tests.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <ostream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "crowdcloth/World.h"
+#include "crowdcloth/import/CharacterIO.h"
+#include "support/CrowdScenes.h"
+
+namespace cc {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct WorldDeleter {
+    void operator()(World* w) const { World::destroy(w); }
+};
+using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+
+Vec3 vertexOf(const float* xyz, uint32_t v) { return Vec3(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); }
+
+/// Generalised winding number of a triangle soup at p (Jacobson et al. 2013): ~1 inside a closed
+/// part, ~k inside k overlapping parts, ~0 outside.
+double windingNumber(const RenderMeshView& body, const Vec3& p) {
+    double total = 0.0;
+    for (uint32_t t = 0; t < body.triangleCount; ++t) {
+        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]) - p;
+        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]) - p;
+        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]) - p;
+        const double la = a.norm(), lb = b.norm(), lc = c.norm();
+        total += 2.0 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+    }
+    return total / (4.0 * M_PI);
+}
+
+/// Distance from p to the nearest body triangle (brute force, Ericson's regions).
+double distanceToSurface(const RenderMeshView& body, const Vec3& p) {
+    double best = 1e30;
+    for (uint32_t t = 0; t < body.triangleCount; ++t) {
+        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]);
+        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]);
+        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]);
+        const Vec3 ab = b - a, ac = c - a, ap = p - a;
+        const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+        Vec3 q;
+        const Vec3 bp = p - b, cp = p - c;
+        const double d3 = ab.dot(bp), d4 = ac.dot(bp), d5 = ab.dot(cp), d6 = ac.dot(cp);
+        const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+        if (d1 <= 0 && d2 <= 0) q = a;
+        else if (d3 >= 0 && d4 <= d3) q = b;
+        else if (d6 >= 0 && d5 <= d6) q = c;
+        else if (vc <= 0 && d1 >= 0 && d3 <= 0) q = a + d1 / (d1 - d3) * ab;
+        else if (vb <= 0 && d2 >= 0 && d6 <= 0) q = a + d2 / (d2 - d6) * ac;
+        else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) q = b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+        else q = a + ab * (vb / (va + vb + vc)) + ac * (vc / (va + vb + vc));
+        best = std::min(best, (p - q).norm());
+    }
+    return best;
+}
+
+struct Case {
+    const char* body;  ///< "mannequin" or a file in the shared humanoids folder
+    const char* clip;  ///< clip name; "" = the body's first clip
+    GarmentKind kind;
+    double rate;       ///< [Hz]
+};
+
+const char* kindName(GarmentKind k) {
+    switch (k) {
+    case GarmentKind::Cape: return "cape";
+    case GarmentKind::Skirt: return "skirt";
+    case GarmentKind::Dress: return "dress";
+    case GarmentKind::Poncho: return "poncho";
+    }
+    return "?";
+}
+
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << kindName(c.kind) << " on " << c.body << " " << (c.clip[0] ? c.clip : "clip 0") << " " << c.rate << " Hz";
+}
+
+std::string caseName(const ::testing::TestParamInfo<Case>& info) {
+    std::string name = std::string(kindName(info.param.kind)) + "_" + info.param.body + "_" +
+                       (info.param.clip[0] ? info.param.clip : "clip0") + "_" + std::to_string(int(info.param.rate)) + "Hz";
+    for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return name;
+}
+
+struct Outcome {
+    double deepest = 0.0;          ///< [m] deepest garment vertex inside the body
+    double worstStrain = 0.0;      ///< [-] after the first half second
+    double worstAttachment = 0.0;  ///< [m]
+    double thickness = 0.0;        ///< [m]
+    int inside = 0, checked = 0;
+};
+
+/// Simulates the case for two seconds at its rate and measures it; fails the test on a failed
+/// update, a non-finite vertex or an attachment more than 1 mm off its target.
+void run(const Case& c, Outcome& out) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    WorldPtr world(World::create(desc).value());
+    BodyId body;
+    double speed = 0.0;  // [m/s] root motion (the mannequin's clips are in place with a velocity)
+    if (std::string(c.body) == "mannequin") {
+        body = world->addMannequinBody({}).value();
+        speed = std::string(c.clip) == "run" ? 4.6 : std::string(c.clip) == "walk" ? 1.35 : 0.0;
+    } else {
+        const fs::path file = fs::path(CC_HUMANOIDS_DIR) / c.body;
+        if (!fs::exists(file)) GTEST_SKIP() << "shared humanoid absent: " << file;
+        auto character = importCharacter(file.string());
+        ASSERT_TRUE(character.isOk()) << character.status().message();
+        auto added = world->addCharacterBody(character.value());
+        ASSERT_TRUE(added.isOk()) << added.status().message();
+        body = added.value();
+    }
+    ClothAssetDesc assetDesc;
+    assetDesc.kind = c.kind;
+    const AssetId asset = world->addClothAsset(assetDesc).value();
+    CharacterDesc cd;
+    cd.body = body;
+    cd.clip = c.clip[0] ? c.clip : nullptr;
+    cd.clipIndex = c.clip[0] ? -1 : 0;
+    const auto character = world->addCharacter(cd);
+    ASSERT_TRUE(character.isOk()) << character.status().message();
+    GarmentDesc gd;
+    gd.forceLevel = int32_t(assetDesc.levelCount) - 1;
+    const auto garment = world->addGarment(asset, character.value(), gd);
+    ASSERT_TRUE(garment.isOk()) << garment.status().message();
+    const BodyLandmarkDesc landmarks = world->bodyLandmarks(body).value();
+    const double height = landmarks.neckY * 1.15;  // about the standing height
+    out.thickness = assetDesc.thickness;
+
+    const double dt = 1.0 / c.rate, seconds = 2.0;
+    const int frames = int(seconds * c.rate), checkEvery = std::max(1, int(c.rate / 5.0));
+    for (int f = 1; f <= frames; ++f) {
+        const double z = speed * f * dt, position[3] = {0.0, 0.0, z};
+        ASSERT_TRUE(world->setCharacterRoot(character.value(), position, 0.0).isOk());
+        const Vec3 target(0.0, 0.6 * height, z);
+        const CameraDesc camera = test::cameraLookingAt(target + Vec3(-0.6 * height, 0.2 * height, -1.2 * height), target);
+        ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
+        ASSERT_TRUE(world->step(dt).isOk());
+        const GarmentStats stats = world->garmentStats(garment.value()).value();
+        ASSERT_FALSE(stats.failed) << "frame " << f;
+        out.worstAttachment = std::max(out.worstAttachment, stats.maxAttachmentError);
+        if (f > int(0.5 * c.rate)) out.worstStrain = std::max(out.worstStrain, stats.maxStrain);
+        const RenderMeshView cloth = world->renderMesh(garment.value()).value();
+        for (uint32_t v = 0; v < cloth.vertexCount; ++v) ASSERT_TRUE(isFinite(vertexOf(cloth.positions, v))) << "frame " << f;
+        if (f % checkEvery != 0 || f < int(0.5 * c.rate)) continue;  // after half a second of settling
+        const RenderMeshView posed = world->characterMesh(character.value()).value();
+        for (uint32_t v = 0; v < cloth.vertexCount; ++v) {
+            const Vec3 p = vertexOf(cloth.positions, v);
+            ++out.checked;
+            if (windingNumber(posed, p) < 0.5) continue;
+            ++out.inside;
+            out.deepest = std::max(out.deepest, distanceToSurface(posed, p));
+        }
+    }
+    std::printf("%s on %s, %s at %.0f Hz: max strain %.1f %%, attachment error %.3f mm, %d of %d vertex checks inside, "
+                "deepest %.2f mm (thickness %.1f mm)\n",
+                kindName(c.kind), c.body, c.clip[0] ? c.clip : "clip 0", c.rate, 100.0 * out.worstStrain,
+                1e3 * out.worstAttachment, out.inside, out.checked, 1e3 * out.deepest, 1e3 * out.thickness);
+    EXPECT_LE(out.worstAttachment, 1e-3) << "attachments follow their skinned targets";
+}
+
+class GarmentOnHumanoid : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GarmentOnHumanoid, FollowsItsAttachmentsWithoutFailing) {
+    Outcome out;
+    run(GetParam(), out);
+}
+
+TEST_P(GarmentOnHumanoid, DISABLED_WithinStrainAndThickness) {
+    Outcome out;
+    run(GetParam(), out);
+    if (HasFatalFailure() || IsSkipped()) return;
+    EXPECT_LE(out.deepest, out.thickness) << "no garment vertex deeper than the thickness inside the body";
+    EXPECT_LE(out.worstStrain, 0.1 * 1.05) << "edge strain within the world's strain limit (10 %)";
+}
+
+std::vector<Case> cases() {
+    std::vector<Case> out;
+    for (GarmentKind k : {GarmentKind::Cape, GarmentKind::Skirt, GarmentKind::Dress, GarmentKind::Poncho}) {
+        for (const auto& [body, clip] : std::vector<std::pair<const char*, const char*>>{
+                 {"mannequin", "walk"}, {"mannequin", "run"}, {"CesiumMan.glb", ""}, {"RiggedFigure.glb", ""},
+                 {"RobotExpressive.glb", "Walking"}, {"RobotExpressive.glb", "Running"}, {"RobotExpressive.glb", "Dance"}})
+            out.push_back({body, clip, k, 60.0});
+        for (const auto& [body, clip] : std::vector<std::pair<const char*, const char*>>{
+                 {"mannequin", "walk"}, {"CesiumMan.glb", ""}, {"RobotExpressive.glb", "Walking"}})
+            out.push_back({body, clip, k, 30.0});
+    }
+    return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Humanoids, GarmentOnHumanoid, ::testing::ValuesIn(cases()), caseName);
+
+} // namespace
+} // namespace cc
