@@ -43,6 +43,10 @@ struct BodyCollider::Impl {
     // Vertex pseudonormals are needed only where a query's closest point is a vertex: computed on
     // demand from the triangles around it (vertexTriangles[vertexStart[v] .. vertexStart[v + 1])).
     std::vector<uint32_t> vertexStart, vertexTriangles;
+    // welded[v]: the lowest index of a vertex at v's bind position; topology: the triangles on
+    // welded indices (what vertexStart, edges and parts are built on).
+    std::vector<uint32_t> welded;
+    std::vector<std::array<uint32_t, 3>> topology;
     std::vector<uint8_t> degenerate;
     // Connected parts (triangles sharing vertices): a body is often several closed surfaces that
     // overlap (a thigh into the pelvis), and a point outside the nearest one may be inside another.
@@ -66,6 +70,10 @@ struct BodyCollider::Impl {
 
     ~Impl() { releaseScenes(); }
     void releaseScenes() {
+        // Our references to the geometries too: attaching adds the scene's own, so without these
+        // every build leaks the geometry and its buffers (issue 11).
+        if (mesh) rtcReleaseGeometry(mesh);
+        if (sweptGeometry) rtcReleaseGeometry(sweptGeometry);
         if (scene) rtcReleaseScene(scene);
         if (swept) rtcReleaseScene(swept);
         scene = swept = nullptr;
@@ -85,6 +93,26 @@ struct BodyCollider::Impl {
 namespace {
 
 uint64_t edgeKey(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+/// For every vertex the lowest index of a vertex at exactly the same position.
+std::vector<uint32_t> weldByPosition(Span<const Vec3> positions) {
+    std::vector<uint32_t> order(positions.size());
+    for (uint32_t v = 0; v < order.size(); ++v) order[v] = v;
+    auto before = [&](uint32_t a, uint32_t b) {
+        const Vec3 &p = positions[a], &q = positions[b];
+        if (p.x() != q.x()) return p.x() < q.x();
+        if (p.y() != q.y()) return p.y() < q.y();
+        if (p.z() != q.z()) return p.z() < q.z();
+        return a < b;
+    };
+    std::sort(order.begin(), order.end(), before);
+    std::vector<uint32_t> welded(positions.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const bool same = i > 0 && positions[order[i]] == positions[order[i - 1]];
+        welded[order[i]] = same ? welded[order[i - 1]] : order[i];
+    }
+    return welded;
+}
 
 // Embree's float boxes may miss a double triangle by a rounding error: queries are widened by this
 // relative amount (plus an absolute floor) and the exact test runs in double.
@@ -157,9 +185,10 @@ Vec3 BodyCollider::Impl::vertexPseudonormal(uint32_t v) const {
         const uint32_t t = vertexTriangles[k];
         if (degenerate[t]) continue;
         const auto& tri = triangles[t];
-        const int corner = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+        const int corner = topology[t][0] == v ? 0 : topology[t][1] == v ? 1 : 2;
         // Interior angle at the corner, between the edges leaving it.
-        const Vec3 u = current[tri[(corner + 1) % 3]] - current[v], w = current[tri[(corner + 2) % 3]] - current[v];
+        const Vec3& at = current[tri[corner]];
+        const Vec3 u = current[tri[(corner + 1) % 3]] - at, w = current[tri[(corner + 2) % 3]] - at;
         sum += std::atan2(u.cross(w).norm(), u.dot(w)) * faceNormal[t];
     }
     return sum;
@@ -168,9 +197,9 @@ Vec3 BodyCollider::Impl::vertexPseudonormal(uint32_t v) const {
 Vec3 BodyCollider::Impl::pseudonormal(uint32_t t, Feature f) const {
     switch (f) {
     case Feature::Face: return faceNormal[t];
-    case Feature::Vertex0: return vertexPseudonormal(triangles[t][0]);
-    case Feature::Vertex1: return vertexPseudonormal(triangles[t][1]);
-    case Feature::Vertex2: return vertexPseudonormal(triangles[t][2]);
+    case Feature::Vertex0: return vertexPseudonormal(topology[t][0]);
+    case Feature::Vertex1: return vertexPseudonormal(topology[t][1]);
+    case Feature::Vertex2: return vertexPseudonormal(topology[t][2]);
     case Feature::Edge0: return edgeNormal[3 * t + 0];
     case Feature::Edge1: return edgeNormal[3 * t + 1];
     case Feature::Edge2: return edgeNormal[3 * t + 2];
@@ -284,21 +313,29 @@ Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& devi
     const uint32_t nt = uint32_t(triangles.size());
     impl->faceNormal.assign(nt, Vec3::Zero());
     impl->edgeNormal.assign(3 * std::size_t(nt), Vec3::Zero());
+    // Topology on positions, not indices: an exported skin splits a vertex at every UV or normal
+    // seam, and a body torn into open patches there has no inside (its pseudonormals and parts
+    // would be those of the patches).
+    impl->welded = weldByPosition(positions);
+    impl->topology.resize(nt);
+    for (uint32_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) impl->topology[t][k] = impl->welded[triangles[t][k]];
     impl->vertexStart.assign(positions.size() + 1, 0);
-    for (const auto& tri : triangles)
+    for (const auto& tri : impl->topology)
         for (uint32_t v : tri) ++impl->vertexStart[v + 1];
     for (std::size_t v = 0; v < positions.size(); ++v) impl->vertexStart[v + 1] += impl->vertexStart[v];
     impl->vertexTriangles.resize(impl->vertexStart.back());
     {
         std::vector<uint32_t> fill(impl->vertexStart.begin(), impl->vertexStart.end() - 1);
         for (uint32_t t = 0; t < nt; ++t)
-            for (uint32_t v : triangles[t]) impl->vertexTriangles[fill[v]++] = t;
+            for (uint32_t v : impl->topology[t]) impl->vertexTriangles[fill[v]++] = t;
     }
     impl->degenerate.assign(nt, 0);
     std::vector<std::pair<uint64_t, uint32_t>> keyed;
     keyed.reserve(3 * std::size_t(nt));
     for (uint32_t t = 0; t < nt; ++t) {
-        for (uint32_t k = 0; k < 3; ++k) keyed.push_back({edgeKey(triangles[t][k], triangles[t][(k + 1) % 3]), 3 * t + k});
+        const auto& tri = impl->topology[t];
+        for (uint32_t k = 0; k < 3; ++k) keyed.push_back({edgeKey(tri[k], tri[(k + 1) % 3]), 3 * t + k});
     }
     std::sort(keyed.begin(), keyed.end());
     for (std::size_t i = 0; i < keyed.size(); ++i) {
@@ -313,7 +350,7 @@ Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& devi
             while (parent[v] != v) v = parent[v] = parent[parent[v]];
             return v;
         };
-        for (const auto& tri : triangles)
+        for (const auto& tri : impl->topology)
             for (int k = 1; k < 3; ++k) {
                 const uint32_t a = find(tri[0]), b = find(tri[k]);
                 if (a != b) parent[std::max(a, b)] = std::min(a, b);
@@ -321,7 +358,7 @@ Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& devi
         std::vector<uint32_t> index(positions.size(), UINT32_MAX);
         impl->part.resize(nt);
         for (uint32_t t = 0; t < nt; ++t) {
-            const uint32_t root = find(triangles[t][0]);
+            const uint32_t root = find(impl->topology[t][0]);
             if (index[root] == UINT32_MAX) index[root] = impl->partCount++;
             impl->part[t] = index[root];
         }

@@ -105,24 +105,26 @@ TEST(BodyCollider, ProximityMatchesBruteForceOnRandomMeshesAndAfterRefits) {
     expectMatchesBruteForce(*body, m, probePoints(m, rng, 600, 0.05), query);
 }
 
-TEST(BodyCollider, InsideAndOutsideAreToldApartAtFacesEdgesAndVertices) {
+namespace {
+
+/// Probes just outside and inside the sphere's vertices, edges and faces; `m` is that sphere as
+/// given (welded or split into pieces), probed at the points of `probe`.
+void expectSidesOfSphere(const test::BodyMesh& m, const test::BodyMesh& probe, const Vec3& center) {
     auto device = makeDevice();
-    const Vec3 center(0.0, 1.0, 0.0);
-    const test::BodyMesh m = test::uvSphere(center, 0.2, 10, 16);
     auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
     ContactQuery query;
     query.thickness = 0.01;
     query.margin = 0.05;
     std::vector<Vec3> points;
     std::vector<double> sides;  // +1 outside, -1 inside
-    for (const Vec3& p : m.positions) {
+    for (const Vec3& p : probe.positions) {
         const Vec3 radial = (p - center).normalized();
         points.push_back(p + 0.02 * radial), sides.push_back(1);   // off a vertex, outside
         points.push_back(p - 0.02 * radial), sides.push_back(-1);  // and inside
     }
-    for (const auto& t : m.triangles) {
-        const Vec3 mid = 0.5 * (m.positions[t[0]] + m.positions[t[1]]);
-        const Vec3 centroid = (m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]) / 3.0;
+    for (const auto& t : probe.triangles) {
+        const Vec3 mid = 0.5 * (probe.positions[t[0]] + probe.positions[t[1]]);
+        const Vec3 centroid = (probe.positions[t[0]] + probe.positions[t[1]] + probe.positions[t[2]]) / 3.0;
         for (const Vec3& q : {mid, centroid}) {
             const Vec3 radial = (q - center).normalized();
             points.push_back(q + 0.01 * radial), sides.push_back(1);
@@ -138,6 +140,29 @@ TEST(BodyCollider, InsideAndOutsideAreToldApartAtFacesEdgesAndVertices) {
         const double signedDistance = (points[c.vertex] - c.point).dot(c.normal);
         EXPECT_EQ(signedDistance > 0, sides[c.vertex] > 0) << "point " << c.vertex << " on the wrong side";
     }
+}
+
+} // namespace
+
+TEST(BodyCollider, InsideAndOutsideAreToldApartAtFacesEdgesAndVertices) {
+    const Vec3 center(0.0, 1.0, 0.0);
+    const test::BodyMesh m = test::uvSphere(center, 0.2, 10, 16);
+    expectSidesOfSphere(m, m, center);
+}
+
+TEST(BodyCollider, ABodySplitAtSeamsIsOneClosedSurface) {
+    // Exported skins split vertices at UV and normal seams; split here at every triangle (a
+    // flat-shaded export), the sphere must still be one closed part with an inside, not 288
+    // open patches each reporting its own contact and side.
+    const Vec3 center(0.0, 1.0, 0.0);
+    const test::BodyMesh m = test::uvSphere(center, 0.2, 10, 16);
+    test::BodyMesh split;
+    for (const auto& t : m.triangles) {
+        const uint32_t first = uint32_t(split.positions.size());
+        for (uint32_t v : t) split.positions.push_back(m.positions[v]);
+        split.triangles.push_back({first, first + 1, first + 2});
+    }
+    expectSidesOfSphere(split, m, center);
 }
 
 TEST(BodyCollider, PointsOnTheSurfaceHaveZeroDistanceAndAUnitNormal) {
