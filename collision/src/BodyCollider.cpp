@@ -224,7 +224,10 @@ Status BodyCollider::Impl::buildScenes() {
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
     mesh = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(mesh, RTC_BUILD_QUALITY_REFIT);
+    // Low quality: each update rebuilds this tree in place (Embree's Morton builder) instead of
+    // refitting it. On one build thread that is the faster one, measured on a 5,880-triangle
+    // body: 0.4 ms to build against 2.0, 0.55 ms per update against 1.5, queries 15 % slower.
+    rtcSetGeometryBuildQuality(mesh, RTC_BUILD_QUALITY_LOW);
     // rtcSetNewGeometryBuffer pads the buffer for Embree's 16-byte loads (ECOSYSTEM.md pitfall 2).
     auto* index = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                   3 * sizeof(uint32_t), triangles.size()));

@@ -17,10 +17,11 @@ namespace cc::collision {
 
 /// Settings of one body collider.
 struct BodyColliderSettings {
-    double rebuildFraction = 0.1;  ///< [-] the BVH is refit every update and fully rebuilt when the
-                                   ///< mean vertex displacement since the last build exceeds this
-                                   ///< fraction of the body's bounding-box diagonal (refits keep
-                                   ///< the tree's topology, so its quality drops with large
+    double rebuildFraction = 0.1;  ///< [-] the trees are updated in place every update (the
+                                   ///< surface's rebuilt, the swept boxes' refit) and made anew when
+                                   ///< the mean vertex displacement since the last build exceeds
+                                   ///< this fraction of the body's bounding-box diagonal (a refit
+                                   ///< keeps the tree's topology, so its quality drops with large
                                    ///< motion); (0, 100]
     double degenerateArea = 1e-12; ///< [-] a triangle whose area is below this fraction of its
                                    ///< longest edge squared is degenerate and skipped by queries
