@@ -36,7 +36,15 @@ Status CharacterInstance::updateSkinLocked() {
     return skinVertices(body->mesh(), pose.skinMatrices(), skinnedPositions, Span<Vec3>());
 }
 
-Result<const collision::Collider*> CharacterInstance::meshColliderAt(collision::CollisionDevice& device, double time) {
+namespace {
+
+/// A collider last used more than this many of the asking garment's steps ago is reset, not moved.
+constexpr double kMaxSweepSteps = 1.5;
+
+} // namespace
+
+Result<const collision::Collider*> CharacterInstance::meshColliderAt(collision::CollisionDevice& device, double time,
+                                                                     double sweep) {
     std::lock_guard<std::mutex> lock(mMutex);
     if (mMeshColliderTime == time) return static_cast<const collision::Collider*>(meshCollider.get());
     if (Status s = updateSkinLocked(); !s) return s;
@@ -44,6 +52,8 @@ Result<const collision::Collider*> CharacterInstance::meshColliderAt(collision::
         auto made = collision::BodyCollider::create(device, body->mesh().triangles, skinnedPositions);
         if (!made.isOk()) return made.status();
         meshCollider = std::move(made).value();
+    } else if (time - mMeshColliderTime > kMaxSweepSteps * sweep) {
+        if (Status s = meshCollider->reset(skinnedPositions); !s) return s;
     } else if (Status s = meshCollider->update(skinnedPositions, time - mMeshColliderTime); !s) {
         return s;
     }
@@ -51,8 +61,9 @@ Result<const collision::Collider*> CharacterInstance::meshColliderAt(collision::
     return static_cast<const collision::Collider*>(meshCollider.get());
 }
 
-Result<const collision::Collider*> CharacterInstance::proxyColliderAt(collision::CollisionDevice& device, double time) {
-    if (body->hostSkinned) return meshColliderAt(device, time);
+Result<const collision::Collider*> CharacterInstance::proxyColliderAt(collision::CollisionDevice& device, double time,
+                                                                      double sweep) {
+    if (body->hostSkinned) return meshColliderAt(device, time, sweep);
     std::lock_guard<std::mutex> lock(mMutex);
     if (mProxyColliderTime == time) return static_cast<const collision::Collider*>(&proxyCollider);
     if (Status s = updatePoseLocked(); !s) return s;
@@ -70,6 +81,8 @@ Result<const collision::Collider*> CharacterInstance::proxyColliderAt(collision:
         if (!made.isOk()) return made.status();
         proxyCollider = std::move(made).value();
         proxyColliderMade = true;
+    } else if (time - mProxyColliderTime > kMaxSweepSteps * sweep) {
+        if (Status s = proxyCollider.reset(mCapsules); !s) return s;
     } else if (Status s = proxyCollider.update(mCapsules, time - mProxyColliderTime); !s) {
         return s;
     }

@@ -52,11 +52,14 @@ struct CharacterInstance {
     /// hold their vertices).
     Status updateSkin();
 
-    /// The body mesh collider at this frame's pose (skins the body first).
-    Result<const collision::Collider*> meshColliderAt(collision::CollisionDevice& device, double time);
-    /// Capsules fitted to the skeleton at this frame's pose; host-skinned bodies have none and
-    /// answer with their mesh.
-    Result<const collision::Collider*> proxyColliderAt(collision::CollisionDevice& device, double time);
+    /// The body mesh collider at this frame's pose (skins the body first). Its motion (surface
+    /// velocities, swept tests) is that since its last use when that was at most about `sweep`
+    /// seconds ago (the asking garment's step); a collider last used longer ago is teleported to
+    /// the pose, at rest: a body seen again after a while did not sweep through the cloth.
+    Result<const collision::Collider*> meshColliderAt(collision::CollisionDevice& device, double time, double sweep);
+    /// Capsules fitted to the skeleton at this frame's pose, with the same motion rule; host-skinned
+    /// bodies have none and answer with their mesh.
+    Result<const collision::Collider*> proxyColliderAt(collision::CollisionDevice& device, double time, double sweep);
 
 private:
     Status updatePoseLocked();

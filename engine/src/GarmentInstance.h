@@ -18,7 +18,9 @@ namespace cc::detail {
 
 /// What a garment update needs from the world this frame.
 struct GarmentUpdateContext {
-    double dt = 0.0;                                ///< [s] time since the garment's last update
+    double dt = 0.0;                                ///< [s] the update's step: the time since the
+                                                    ///< garment's last update, on the step grid
+    double carried = 0.0;                           ///< [s] elapsed time the step left to the next
     const collision::Collider* collider = nullptr;  ///< the body at the end of the step; null = none
     bool continuous = false;                        ///< swept tests against the body (fast limbs)
     bool proxies = false;                           ///< the collider is capsules, not the mesh

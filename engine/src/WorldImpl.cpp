@@ -6,6 +6,7 @@
 
 #include "crowdcloth/core/Hash.h"
 #include "crowdcloth/core/ParallelFor.h"
+#include "UpdateStep.h"
 
 #ifdef CC_HAVE_OPENMP
 #include <omp.h>
@@ -61,7 +62,7 @@ SolverEffort solverEffort(const WorldDesc& desc, int level, int levelCount) {
 /// exponent of the ratio), and the smallest share of the nominal CPU budget it may leave.
 constexpr double kBudgetGain = 0.1;
 constexpr double kMinBudgetScale = 0.2;
-
+constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this long is dropped
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
@@ -302,16 +303,17 @@ void WorldImpl::fail(GarmentInstance& g, const Status& status) {
 
 Result<const cloth::SubstepFactor*> WorldImpl::factorFor(const GarmentInstance& g, double substep) {
     const int level = g.schedule.level;
-    auto& slot = mFactors[FactorKey{g.assetIndex(), level, substep}];
-    if (!slot) {
+    CachedFactor& slot = mFactors[FactorKey{g.assetIndex(), level, substep}];
+    if (!slot.factor) {
         auto built = g.asset().levels[level].cloth->buildFactor(substep);
         if (!built.isOk()) {
             mFactors.erase(FactorKey{g.assetIndex(), level, substep});
             return built.status();
         }
-        slot = std::move(built).value();
+        slot.factor = std::move(built).value();
     }
-    return slot.get();
+    slot.lastUsedFrame = mFrameStats.frame;
+    return slot.factor.get();
 }
 
 void WorldImpl::prepareGarment(const FrameItem& item) {
@@ -327,8 +329,8 @@ void WorldImpl::prepareGarment(const FrameItem& item) {
     Status status;
     if (schedule.collision != lod::CollisionDetail::None) {
         auto collider = schedule.collision == lod::CollisionDetail::Proxies
-                            ? item.character->proxyColliderAt(*mDevice, mTime)
-                            : item.character->meshColliderAt(*mDevice, mTime);
+                            ? item.character->proxyColliderAt(*mDevice, mTime, g.context.dt)
+                            : item.character->meshColliderAt(*mDevice, mTime, g.context.dt);
         status = collider.status();
         if (collider.isOk()) g.context.collider = collider.value();
     }
@@ -363,7 +365,10 @@ void WorldImpl::simulateBatch(Batch& batch) {
         g.stats.failSafes = report.failSafes;
         g.stats.substeps = uint32_t(batch.settings.substeps);
         g.stats.iterations = uint32_t(batch.settings.substeps * batch.settings.iterations);
-        g.lastUpdateTime = mTime;
+        g.lastUpdateTime = mTime - g.context.carried;
+        // Measured here, in parallel: a serial pass over a large crowd's updates costs a millisecond.
+        g.stats.maxStrain = g.maxEdgeStrain();
+        g.stats.maxAttachmentError = g.attachmentError();
         g.stats.measuredMs += share + msSince(own);
     }
 }
@@ -411,7 +416,11 @@ Status WorldImpl::step(double dt) {
         // Spread garments at the same rate over the frames (by id) so the load stays even.
         g.stats.updated = interval > 0 && (fs.frame + mItems[i].id.index1) % uint64_t(interval) == 0;
         if (g.stats.updated) {
-            g.context.dt = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
+            // The step is snapped to a grid of sizes (updateStep) so that garments share factors
+            // whatever the frame times; the difference is carried to the next update.
+            const double elapsed = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
+            g.context.dt = updateStep(elapsed, dt);
+            g.context.carried = elapsed - g.context.dt;
             // Garments simulate in their character's frame, which only turns about +Y: gravity is
             // the same vector there.
             g.context.acceleration = gravity;
@@ -509,8 +518,6 @@ Status WorldImpl::step(double dt) {
         s.predictedErrorPx = sc.predictedErrorPx;
         s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;
         if (s.updated) {
-            s.maxStrain = g.maxEdgeStrain();
-            s.maxAttachmentError = g.attachmentError();
             if (!s.failed && !s.levelSwitched)
                 mCostModel.record(g.assetIndex(), g.level(), sc.solver, s.measuredMs);
             ++fs.updated;
@@ -527,6 +534,11 @@ Status WorldImpl::step(double dt) {
     mCharacters.forEach([&](auto, CharacterInstance& c) {
         if (c.body->hostSkinned) c.hostVerticesGiven = c.skinnedCurrent = false; // needed again next frame
     });
+    // Factors no garment used for a while go (a level or step size the crowd left): the cache
+    // stays as small as the crowd's current variety.
+    if (fs.frame % kFactorSweepFrames == 0)
+        for (auto it = mFactors.begin(); it != mFactors.end();)
+            it = fs.frame - it->second.lastUsedFrame > kFactorSweepFrames ? mFactors.erase(it) : std::next(it);
     fs.totalMs = msSince(frameStart);
     // With learned costs the budget is closed-loop: what the garment costs do not show (the
     // schedule, the serial parts, threads waiting on each other or on a busy machine) is found by

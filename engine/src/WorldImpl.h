@@ -125,7 +125,11 @@ private:
     };
     std::vector<BatchKey> mBatchKeys;
     std::size_t mBatchCount = 0;
-    std::map<FactorKey, std::shared_ptr<const cloth::SubstepFactor>> mFactors;
+    struct CachedFactor {
+        std::shared_ptr<const cloth::SubstepFactor> factor;
+        uint64_t lastUsedFrame = 0;
+    };
+    std::map<FactorKey, CachedFactor> mFactors;
 };
 
 } // namespace cc::detail
