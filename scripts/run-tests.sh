@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test through CTest.
+# Installs dependencies, builds, and runs every test through CTest; then the fast tests again
+# under AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -7,3 +8,4 @@ bash scripts/build.sh
 # Serial: tests use OpenMP inside, and two 2-thread processes on 2 cores make spinning
 # OpenMP barriers crawl.
 ctest --test-dir build --output-on-failure --timeout 900
+bash scripts/run-sanitizers.sh

@@ -2,26 +2,59 @@
 // allocates nothing (support/AllocationCounter.h). Kept in its own file so that no other code is
 // compiled with the replaced operators in view. Out of memory aborts: the code under test does
 // not use exceptions.
+//
+// Every form is replaced, the nothrow and aligned ones too: the standard library allocates with
+// them (std::stable_sort's buffer is `new (std::nothrow)`), and a form left to the runtime would
+// both go uncounted and pair the runtime's operator new with our free (AddressSanitizer:
+// alloc-dealloc-mismatch).
 #include "support/AllocationCounter.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <new>
 
 namespace {
 std::atomic<long> gAllocations{0};
+
+// The nothrow forms give nullptr when out of memory, the others abort.
+void* allocate(std::size_t size, bool nothrow = false) {
+    ++gAllocations;
+    void* p = std::malloc(size ? size : 1);
+    if (!p && !nothrow) std::abort();
+    return p;
 }
+
+void* allocateAligned(std::size_t size, std::align_val_t alignment, bool nothrow = false) {
+    ++gAllocations;
+    const std::size_t a = std::max(std::size_t(alignment), sizeof(void*));
+    // aligned_alloc wants a multiple of the alignment.
+    void* p = std::aligned_alloc(a, (std::max<std::size_t>(size, 1) + a - 1) / a * a);
+    if (!p && !nothrow) std::abort();
+    return p;
+}
+} // namespace
 
 long cc::test::allocationCount() { return gAllocations.load(); }
 
-void* operator new(std::size_t size) {
-    ++gAllocations;
-    void* p = std::malloc(size ? size : 1);
-    if (!p) std::abort();
-    return p;
-}
-void* operator new[](std::size_t size) { return operator new(size); }
+void* operator new(std::size_t size) { return allocate(size); }
+void* operator new[](std::size_t size) { return allocate(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, true); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, true); }
+void* operator new(std::size_t size, std::align_val_t a) { return allocateAligned(size, a); }
+void* operator new[](std::size_t size, std::align_val_t a) { return allocateAligned(size, a); }
+void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept { return allocateAligned(size, a, true); }
+void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept { return allocateAligned(size, a, true); }
+
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }

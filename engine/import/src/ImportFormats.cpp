@@ -396,8 +396,10 @@ bool openGexMetrics(const std::string& text, double& outMetresPerUnit, bool& out
     static const std::regex up(R"re(Metric\s*\(\s*key\s*=\s*"up"\s*\)\s*\{\s*string\s*\{\s*"([xyzXYZ])"\s*\})re");
     std::smatch m;
     if (std::regex_search(text, m, distance)) {
+        // A named copy: `end` points into it (into a temporary it dangled, ASan: stack-use-after-scope).
+        const std::string number = m[1].str();
         char* end = nullptr;
-        const double value = std::strtod(m[1].str().c_str(), &end);
+        const double value = std::strtod(number.c_str(), &end);
         if (end && *end == '\0' && std::isfinite(value) && value > 0.0) outMetresPerUnit = value, found = true;
     }
     if (std::regex_search(text, m, up)) {

@@ -38,7 +38,8 @@ struct ImportSettings {
     bool isolate = true;
     /// [s] an isolated parse taking longer is stopped; (0, 3600].
     double timeoutSeconds = 120.0;
-    /// [bytes] address space an isolated parse may use; 0 = no cap.
+    /// [bytes] address space an isolated parse may use; 0 = no cap (none under AddressSanitizer,
+    /// whose shadow memory alone exceeds any cap).
     std::size_t maxMemoryBytes = std::size_t(4) << 30;
 
     Status validate() const;
