@@ -1,5 +1,7 @@
 #include "GarmentFit.h"
 
+#include "crowdcloth/core/ConvexHull.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -47,8 +49,6 @@ double polylineLength(const std::vector<Vec2>& p, bool closed) {
     if (closed && p.size() > 1) length += (p.front() - p.back()).norm();
     return length;
 }
-
-std::vector<Vec2> hullOf(std::vector<Vec2> points);
 
 /// Support point of a convex polygon in direction n.
 Vec2 support(const std::vector<Vec2>& hull, const Vec2& n) {
@@ -129,27 +129,6 @@ double outside(const std::vector<Vec2>& hull, const Vec2& p) {
     return worst;
 }
 
-std::vector<Vec2> hullOf(std::vector<Vec2> points) {
-    std::sort(points.begin(), points.end(),
-              [](const Vec2& a, const Vec2& b) { return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y(); });
-    points.erase(std::unique(points.begin(), points.end()), points.end());
-    if (points.size() < 3) return points;
-    const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-        return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-    };
-    std::vector<Vec2> hull(2 * points.size());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-        while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    hull.resize(k - 1);
-    return hull;
-}
 
 std::string cm(double metres) { return std::to_string(int(std::lround(100.0 * metres))) + " cm"; }
 
@@ -186,7 +165,7 @@ public:
             const std::vector<Vec2> arms = slice(p, mArms, y);
             out.insert(out.end(), arms.begin(), arms.end());
         }
-        out = hullOf(out);
+        out = convexHull(out);
     }
     /// Cross-section points of the arms where the garment is fitted.
     void arms(double y, std::vector<Vec2>& out) const { out = slice(mBody.fitPositions, mArms, y); }
@@ -260,7 +239,7 @@ Section hangSection(const Envelope& envelope, const Frame& f, const DropSpec& sp
                     points.push_back(len > 0.0 ? Vec2(q + c * d / len) : q);
                 }
             }
-            const std::vector<Vec2> hull = hullOf(points);
+            const std::vector<Vec2> hull = convexHull(points);
             if (hull.size() < 3) break;
             // Offset for the exact length (the offset of a convex curve adds turning x offset).
             const double base = polylineLength(ringAround(hull, f, 0.0, 0.0, 1, theta0, theta1), spec.closed);
@@ -334,7 +313,7 @@ Section hangSection(const Envelope& envelope, const Frame& f, const DropSpec& sp
                 inner.push_back(len > 0.0 ? Vec2(q + c * d / len) : q);
             }
         }
-        inner = hullOf(inner);
+        inner = convexHull(inner);
         scanned = nextY;
         y = nextY;
         s.rings.push_back(ring);
@@ -422,7 +401,7 @@ std::vector<Vec2> pushedOut(const std::vector<Vec2>& hull, const Vec2& axis, dou
         const double len = d.norm();
         out.push_back(len > 0.0 ? Vec2(q + by * d / len) : q);
     }
-    return hullOf(out);
+    return convexHull(out);
 }
 
 /// [body heights] farthest an attachment may start from the body.
@@ -501,7 +480,7 @@ Result<FittedGarment> fitTube(const ClothAssetDesc& design, const BodyAsset& bod
             envelope.body(y, false, slice);
             const double c = design.thickness + (clearance - design.thickness) * std::min(1.0, depth / kClearanceRamp);
             for (const Vec2& q : pushedOut(slice, axis, c)) points.push_back(q);
-            points = hullOf(points);
+            points = convexHull(points);
             const double need = polylineLength(ringAround(points, f, 0.0, 0.0, 1, 0.0, 2.0 * kPi), true);
             const double drop = std::max(0.0, m.hips.height - y);
             const double lateral = m.hips.halfWidth;
@@ -648,7 +627,7 @@ Result<FittedGarment> fitOverShoulders(const ClothAssetDesc& design, const BodyA
             envelope.body(topY - depth, true, slice);
             const double c = design.thickness + (clearance - design.thickness) * std::min(1.0, depth / kClearanceRamp);
             for (const Vec2& q : pushedOut(slice, axis, c)) points.push_back(q);
-            points = hullOf(points);
+            points = convexHull(points);
             const double need = polylineLength(ringAround(points, f, 0.0, 0.0, 1, 0.0, 2.0 * kPi), true);
             required = std::max(required, (need - width) / depth);
         }

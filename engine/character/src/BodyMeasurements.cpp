@@ -50,7 +50,7 @@ BodyRing measureRing(Span<const Vec3> positions, const std::vector<std::array<ui
     std::vector<Vec2> points;
     detail::slicePoints(positions, triangles, keepTriangle, y, points);
     if (points.size() < 3) return ring;
-    ring.hull = detail::convexHull(points);
+    ring.hull = convexHull(points);
     ring.girth = detail::perimeter(ring.hull);
     double aLo = std::numeric_limits<double>::max(), aHi = std::numeric_limits<double>::lowest();
     double bLo = aLo, bHi = aHi;
@@ -123,7 +123,7 @@ Result<BodyMeasurements> measureBody(Span<const Vec3> positions, const std::vect
         middle /= double(points.size());
         bool covered = false;
         for (const detail::SliceLoop& loop : loops)
-            covered = covered || detail::insideConvex(detail::convexHull(loop.points), middle, 0.0);
+            covered = covered || detail::insideConvex(convexHull(loop.points), middle, 0.0);
         if (!covered) {
             m.crotchY = y;
             break;

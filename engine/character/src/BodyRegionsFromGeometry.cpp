@@ -32,7 +32,7 @@ double area(const std::vector<Vec2>& hull) {
 Section sectionOf(const detail::SliceLoop& loop) {
     Section s;
     s.present = true;
-    s.hull = detail::convexHull(loop.points);
+    s.hull = convexHull(loop.points);
     s.centroid = loop.centroid;
     s.perimeter = detail::perimeter(s.hull);
     return s;

@@ -8,10 +8,6 @@
 namespace cc::detail {
 namespace {
 
-double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
 /// Where edge (a, b) crosses y = height, if it does (half-open in y so a vertex exactly on the plane
 /// is counted once per edge pair, never twice).
 bool crossing(const Vec3& a, const Vec3& b, double height, Vec2& out) {
@@ -121,25 +117,6 @@ void sliceLoops(Span<const Vec3> positions, const std::vector<std::array<uint32_
         for (const Vec2& p : loop.points) loop.centroid += p;
         loop.centroid /= double(loop.points.size());
     }
-}
-
-std::vector<Vec2> convexHull(std::vector<Vec2> points) {
-    std::sort(points.begin(), points.end(),
-              [](const Vec2& a, const Vec2& b) { return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y(); });
-    points.erase(std::unique(points.begin(), points.end()), points.end());
-    if (points.size() < 3) return points;
-    std::vector<Vec2> hull(2 * points.size());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-        while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-        hull[k++] = points[i];
-    }
-    hull.resize(k - 1);
-    return hull;
 }
 
 double perimeter(const std::vector<Vec2>& polygon) {

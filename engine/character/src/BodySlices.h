@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "crowdcloth/core/ConvexHull.h"
 #include "crowdcloth/core/Math.h"
 #include "crowdcloth/core/Span.h"
 
@@ -31,9 +32,6 @@ std::vector<uint32_t> samePositionIds(Span<const Vec3> positions);
 void sliceLoops(Span<const Vec3> positions, const std::vector<std::array<uint32_t, 3>>& triangles,
                 const std::vector<uint8_t>& keep, const std::vector<uint32_t>& sameIds, double height,
                 std::vector<SliceLoop>& outLoops);
-
-/// Convex hull, counter-clockwise in (x, z) coordinates (Andrew's monotone chain).
-std::vector<Vec2> convexHull(std::vector<Vec2> points);
 
 /// Length of a closed polygon [m].
 double perimeter(const std::vector<Vec2>& polygon);
