@@ -18,6 +18,7 @@
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/import/CharacterIO.h"
+#include "crowdcloth/render/Camera.h"
 #include "crowdcloth/render/OffscreenRenderer.h"
 
 namespace {
@@ -74,26 +75,9 @@ bool parse(int argc, char** argv, Options& o) {
     return o.seconds > 0.0 && o.rate > 0.0;
 }
 
+/// A 40-degree close-up camera.
 void viewProjection(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, double aspect, double out[16]) {
-    const Eigen::Vector3d f = (target - eye).normalized();
-    const Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitY()).normalized();
-    const Eigen::Vector3d u = s.cross(f);
-    Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
-    view.block<1, 3>(0, 0) = s.transpose();
-    view.block<1, 3>(1, 0) = u.transpose();
-    view.block<1, 3>(2, 0) = -f.transpose();
-    view(0, 3) = -s.dot(eye);
-    view(1, 3) = -u.dot(eye);
-    view(2, 3) = f.dot(eye);
-    const double fy = 1.0 / std::tan(0.5 * 40.0 * M_PI / 180.0), n = 0.05, fz = 200.0;
-    Eigen::Matrix4d proj = Eigen::Matrix4d::Zero();
-    proj(0, 0) = fy / aspect;
-    proj(1, 1) = fy;
-    proj(2, 2) = (fz + n) / (n - fz);
-    proj(2, 3) = 2.0 * fz * n / (n - fz);
-    proj(3, 2) = -1.0;
-    const Eigen::Matrix4d vp = proj * view;
-    for (int k = 0; k < 16; ++k) out[k] = vp(k % 4, k / 4);
+    cc::render::lookAt(eye, target, aspect, out, 40.0, 0.05, 200.0);
 }
 
 struct WorldDeleter {
