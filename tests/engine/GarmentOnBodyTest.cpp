@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
+#include "support/BodyInside.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
@@ -16,58 +17,9 @@ struct WorldDeleter {
 };
 using WorldPtr = std::unique_ptr<World, WorldDeleter>;
 
-Vec3 vertexOf(const float* xyz, uint32_t v) { return Vec3(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); }
-
-/// Generalised winding number of a closed, outward-oriented triangle soup at p (Jacobson et al.
-/// 2013): ~1 inside one closed part, ~k inside k overlapping parts, ~0 outside. Independent of
-/// the collision module: it needs no BVH and no closest points.
-double windingNumber(const RenderMeshView& body, const Vec3& p) {
-    double total = 0.0;
-    for (uint32_t t = 0; t < body.triangleCount; ++t) {
-        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]) - p;
-        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]) - p;
-        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]) - p;
-        const double la = a.norm(), lb = b.norm(), lc = c.norm();
-        const double numerator = a.dot(b.cross(c));
-        const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-        total += 2.0 * std::atan2(numerator, denominator);
-    }
-    return total / (4.0 * M_PI);
-}
-
-/// Distance from p to the body surface (brute force).
-double distanceToSurface(const RenderMeshView& body, const Vec3& p) {
-    double best = 1e30;
-    for (uint32_t t = 0; t < body.triangleCount; ++t) {
-        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]);
-        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]);
-        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]);
-        // Ericson's closest point on a triangle, by regions.
-        const Vec3 ab = b - a, ac = c - a, ap = p - a;
-        const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-        Vec3 q;
-        if (d1 <= 0 && d2 <= 0) {
-            q = a;
-        } else {
-            const Vec3 bp = p - b;
-            const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-            const Vec3 cp = p - c;
-            const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-            const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-            if (d3 >= 0 && d4 <= d3) q = b;
-            else if (d6 >= 0 && d5 <= d6) q = c;
-            else if (vc <= 0 && d1 >= 0 && d3 <= 0) q = a + d1 / (d1 - d3) * ab;
-            else if (vb <= 0 && d2 >= 0 && d6 <= 0) q = a + d2 / (d2 - d6) * ac;
-            else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) q = b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-            else {
-                const double denom = 1.0 / (va + vb + vc);
-                q = a + ab * (vb * denom) + ac * (vc * denom);
-            }
-        }
-        best = std::min(best, (p - q).norm());
-    }
-    return best;
-}
+using test::distanceToSurface;
+using test::vertexOf;
+using test::windingNumber;
 
 struct Case {
     GarmentKind kind;

@@ -19,6 +19,7 @@
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/import/CharacterIO.h"
+#include "support/BodyInside.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
@@ -31,46 +32,9 @@ struct WorldDeleter {
 };
 using WorldPtr = std::unique_ptr<World, WorldDeleter>;
 
-Vec3 vertexOf(const float* xyz, uint32_t v) { return Vec3(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); }
-
-/// Generalised winding number of a triangle soup at p (Jacobson et al. 2013): ~1 inside a closed
-/// part, ~k inside k overlapping parts, ~0 outside.
-double windingNumber(const RenderMeshView& body, const Vec3& p) {
-    double total = 0.0;
-    for (uint32_t t = 0; t < body.triangleCount; ++t) {
-        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]) - p;
-        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]) - p;
-        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]) - p;
-        const double la = a.norm(), lb = b.norm(), lc = c.norm();
-        total += 2.0 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
-    }
-    return total / (4.0 * M_PI);
-}
-
-/// Distance from p to the nearest body triangle (brute force, Ericson's regions).
-double distanceToSurface(const RenderMeshView& body, const Vec3& p) {
-    double best = 1e30;
-    for (uint32_t t = 0; t < body.triangleCount; ++t) {
-        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]);
-        const Vec3 b = vertexOf(body.positions, body.indices[3 * t + 1]);
-        const Vec3 c = vertexOf(body.positions, body.indices[3 * t + 2]);
-        const Vec3 ab = b - a, ac = c - a, ap = p - a;
-        const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-        Vec3 q;
-        const Vec3 bp = p - b, cp = p - c;
-        const double d3 = ab.dot(bp), d4 = ac.dot(bp), d5 = ab.dot(cp), d6 = ac.dot(cp);
-        const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-        if (d1 <= 0 && d2 <= 0) q = a;
-        else if (d3 >= 0 && d4 <= d3) q = b;
-        else if (d6 >= 0 && d5 <= d6) q = c;
-        else if (vc <= 0 && d1 >= 0 && d3 <= 0) q = a + d1 / (d1 - d3) * ab;
-        else if (vb <= 0 && d2 >= 0 && d6 <= 0) q = a + d2 / (d2 - d6) * ac;
-        else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) q = b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-        else q = a + ab * (vb / (va + vb + vc)) + ac * (vc / (va + vb + vc));
-        best = std::min(best, (p - q).norm());
-    }
-    return best;
-}
+using test::distanceToSurface;
+using test::vertexOf;
+using test::windingNumber;
 
 struct Case {
     const char* body;  ///< "mannequin" or a file in the shared humanoids folder
