@@ -23,7 +23,12 @@ struct CharacterInstance {
     Vec3 position = Vec3::Zero();   ///< [m] root
     double yaw = 0.0;               ///< [rad] about +Y
     Vec3 previousPosition = Vec3::Zero();
+    double previousYaw = 0.0;
     double speed = 0.0;             ///< [m/s] root speed over the last frame
+    Vec3 velocity = Vec3::Zero();   ///< [m/s] root velocity over the last frame (world axes); kept
+                                    ///< through a teleport
+    double yawRate = 0.0;           ///< [rad/s] heading's rate over the last frame; kept through a
+                                    ///< teleport
     CharacterPose pose;             ///< skin matrices at clipTime (character space)
     bool poseCurrent = false;       ///< pose evaluated this frame
     std::vector<Vec3> skinnedPositions;  ///< character space; valid when skinnedCurrent

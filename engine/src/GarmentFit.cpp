@@ -12,7 +12,6 @@
 namespace cc::detail {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// [rad] how far a thigh swings forward (and the other back) in a stride: skirts and dresses are
 /// cut wide enough to clear both knees at this swing (a walk swings ~20-25 degrees, a run more).
 constexpr double kStrideAngle = 30.0 * kPi / 180.0;

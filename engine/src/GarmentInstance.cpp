@@ -61,6 +61,8 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
                                                                  CharacterId characterId, const GarmentDesc& desc) {
     if (!(std::isfinite(desc.importance) && desc.importance > 0.0))
         return Status::invalidArgument("GarmentDesc.importance must be > 0");
+    if (!(desc.inertiaScale >= 0.0 && desc.inertiaScale <= 2.0))
+        return Status::invalidArgument("GarmentDesc.inertiaScale must be in [0, 2]");
     if (desc.forceLevel < -1 || desc.forceLevel >= int(asset->levels.size()))
         return Status::invalidArgument("GarmentDesc.forceLevel must be -1 or a level of the asset (0.." +
                                        std::to_string(asset->levels.size() - 1) + ")");
@@ -70,6 +72,9 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     g->mAssetIndex = assetIndex;
     g->mCharacterId = characterId;
     g->mImportance = desc.importance;
+    g->mInertiaScale = desc.inertiaScale;
+    g->lastRootVelocity = character.velocity;
+    g->lastYawRate = character.yawRate;
     // Cooked assets are fitted to the body and placed in its rest pose (GarmentFit): mPlacement stays 0.
     if (Status s = g->bindAttachments(character); !s) return s;
 
@@ -186,6 +191,10 @@ cloth::SubstepLane GarmentInstance::lane() {
     lane.targets = mNodeTargets;
     lane.contacts = mContacts;
     lane.acceleration = context.acceleration;
+    lane.frameAngularVelocity = context.angularVelocity;
+    lane.frameAngularAcceleration = context.angularAcceleration;
+    lane.fictitiousScale = mInertiaScale;
+    lane.velocityDamping = mAsset->desc.velocityDamping;
     return lane;
 }
 

@@ -25,7 +25,10 @@ struct GarmentUpdateContext {
     bool continuous = false;                        ///< swept tests against the body (fast limbs)
     bool proxies = false;                           ///< the collider is capsules, not the mesh
     bool selfCollision = false;
-    Vec3 acceleration = Vec3(0.0, -9.81, 0.0);      ///< [m/s^2] gravity in the character's frame
+    Vec3 acceleration = Vec3(0.0, -9.81, 0.0);      ///< [m/s^2] gravity less the root's acceleration,
+                                                    ///< in the character's frame
+    Vec3 angularVelocity = Vec3::Zero();            ///< [rad/s] of the character's frame, over the step
+    Vec3 angularAcceleration = Vec3::Zero();        ///< [rad/s^2]
 };
 
 /// What the last update did besides the solve.
@@ -56,6 +59,7 @@ public:
     uint32_t assetIndex() const { return mAssetIndex; }
     CharacterId character() const { return mCharacterId; }
     double importance() const { return mImportance; }
+    double inertiaScale() const { return mInertiaScale; }
     int forcedLevel() const { return mForceLevel; }
     int level() const { return mLevel; }
     const CookedLevel& cookedLevel() const { return mAsset->levels[mLevel]; }
@@ -66,6 +70,8 @@ public:
     lod::GarmentSchedule schedule;  ///< this frame's decision
     GarmentStats stats;
     double lastUpdateTime = 0.0;    ///< [s] world time of the last update
+    Vec3 lastRootVelocity = Vec3::Zero();  ///< [m/s] the character's root velocity at the last update
+    double lastYawRate = 0.0;       ///< [rad/s] and its heading's rate
     std::string lastError;          ///< why the last failed update failed
     GarmentUpdateContext context;   ///< this frame's update inputs (set before prepare())
     cloth::SubstepLaneReport solveReport;  ///< what the batched solve did to this garment
@@ -112,6 +118,7 @@ private:
     uint32_t mAssetIndex = 0;
     CharacterId mCharacterId{};
     double mImportance = 1.0;
+    double mInertiaScale = 1.0;
     int mForceLevel = -1;
     Vec3 mPlacement = Vec3::Zero();         ///< asset space -> body bind space
     int mLevel = 0;

@@ -66,6 +66,33 @@ constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
+/// A root moving or turning faster than this in one frame teleported (see setCharacterRoot).
+constexpr double kTeleportSpeed = 100.0;          ///< [m/s]
+constexpr double kTeleportYawRate = 4.0 * 2.0 * kPi;  ///< [rad/s] four turns a second
+
+/// Garments simulate in their character's frame, which moves with the root and turns about +Y:
+/// gravity less the root's acceleration, and the turning frame's Coriolis, centrifugal and Euler
+/// forces (applied by the solver), act on the cloth, scaled by the garment's inertia scale. The
+/// accelerations are the root velocity's change since the garment's last update over this step,
+/// so a garment updated every n-th frame feels the whole change once. A garment that slept or
+/// waited longer than any step was carried rigidly meanwhile: it feels no change from before.
+void setInertialForces(GarmentInstance& g, const CharacterInstance& c, const Vec3& gravity, double sinceUpdate,
+                       double longestStep) {
+    GarmentUpdateContext& context = g.context;
+    const double h = context.dt;
+    const bool resumed = sinceUpdate > longestStep * (1.0 + 1e-9);
+    const Vec3 velocityChange = resumed ? Vec3::Zero() : Vec3(c.velocity - g.lastRootVelocity);
+    const double yawRateChange = resumed ? 0.0 : c.yawRate - g.lastYawRate;
+    const double s = g.inertiaScale();
+    // Into the frame at its mean heading over the step (the velocity change turned with it).
+    const double meanYaw = c.yaw - 0.5 * h * (c.yawRate - 0.5 * yawRateChange);
+    const Mat3 toLocal = Eigen::AngleAxisd(-meanYaw, Vec3::UnitY()).toRotationMatrix();
+    context.acceleration = toLocal * (gravity - s * velocityChange / h);
+    context.angularVelocity = Vec3(0.0, c.yawRate - 0.5 * yawRateChange, 0.0);  // mean over the step
+    context.angularAcceleration = Vec3(0.0, yawRateChange / h, 0.0);
+    g.lastRootVelocity = c.velocity;
+    g.lastYawRate = c.yawRate;
+}
 
 
 } // namespace
@@ -118,7 +145,7 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
     if (Status s = resolveClip(*body->body, desc, c->clip, c->clipTime); !s) return s;
     c->playbackRate = desc.playbackRate;
     c->position = c->previousPosition = position;
-    c->yaw = desc.yaw;
+    c->yaw = c->previousYaw = desc.yaw;
     if (!body->body->hostSkinned) {
         c->pose = CharacterPose(body->body->mannequin.character);
         if (Status s = c->updatePose(); !s) return s;
@@ -392,7 +419,16 @@ Status WorldImpl::step(double dt) {
     mCharacters.forEach([&](auto, CharacterInstance& c) {
         c.clipTime += dt * c.playbackRate;
         c.speed = (c.position - c.previousPosition).norm() / dt;
+        // The root's motion drives the cloth's inertial forces; a jump faster than any body moves
+        // is a teleport (a cut, a respawn): the cloth is carried along and feels nothing.
+        const Vec3 velocity = (c.position - c.previousPosition) / dt;
+        const double yawRate = std::remainder(c.yaw - c.previousYaw, 2.0 * kPi) / dt;
+        if (velocity.norm() <= kTeleportSpeed && std::abs(yawRate) <= kTeleportYawRate) {
+            c.velocity = velocity;
+            c.yawRate = yawRate;
+        }
         c.previousPosition = c.position;
+        c.previousYaw = c.yaw;
         c.poseCurrent = false;
         if (!c.body->hostSkinned) c.skinnedCurrent = false;
     });
@@ -421,9 +457,7 @@ Status WorldImpl::step(double dt) {
             const double elapsed = std::clamp(mTime - g.lastUpdateTime, dt, dt * mDesc.maxUpdateInterval);
             g.context.dt = updateStep(elapsed, dt);
             g.context.carried = elapsed - g.context.dt;
-            // Garments simulate in their character's frame, which only turns about +Y: gravity is
-            // the same vector there.
-            g.context.acceleration = gravity;
+            setInertialForces(g, *mItems[i].character, gravity, mTime - g.lastUpdateTime, dt * mDesc.maxUpdateInterval);
             mUpdates.push_back(i);
         }
     }

@@ -7,7 +7,6 @@ namespace cc::lod {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr uint32_t kMaxBaseSquares = 4096;  // per panel side; the hierarchy refines from there
 
 std::string panelName(std::size_t p) { return "GarmentPattern.panels[" + std::to_string(p) + "]"; }

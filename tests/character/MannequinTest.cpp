@@ -11,7 +11,6 @@
 namespace cc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Mannequin build(const MannequinParams& params = {}) {
     Result<Mannequin> m = buildMannequin(params);

@@ -13,7 +13,6 @@
 namespace cc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Mannequin build() {
     Result<Mannequin> m = buildMannequin();

@@ -9,7 +9,6 @@
 namespace cc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Mannequin makeMannequin() {
     Result<Mannequin> m = buildMannequin();

@@ -13,7 +13,6 @@ using namespace cc::collision;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kG = 9.81;
 
 struct InclineRun {

@@ -10,7 +10,6 @@
 namespace cc::lod {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 PanelDesc flared(PanelShape shape, double top, double hem, double height, uint32_t columns, uint32_t rows) {
     PanelDesc d;

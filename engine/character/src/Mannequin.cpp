@@ -10,7 +10,6 @@
 namespace cc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using J = MannequinJoint;
 
 int32_t idx(J j) { return static_cast<int32_t>(j); }

@@ -102,6 +102,9 @@ struct ClothAssetDesc {
     double shearStiffness = 5.0e2;   ///< [N/m] > 0
     double bendStiffness = 1.0e-5;   ///< [N m] >= 0
     double damping = 0.0;            ///< [s] Rayleigh stiffness-proportional; >= 0
+    double velocityDamping = 0.0;    ///< [1/s] the cloth's velocity relative to its character decays
+                                     ///< at this rate (air, friction: a swing settles in ~3 / this
+                                     ///< seconds; NvCloth's damping); [0, 100]
     double thickness = 0.01;         ///< [m] collision offset from the body; > 0
     double friction = 0.3;           ///< [-] Coulomb coefficient against the body; [0, 2]
     double foldRadius = 0.1;         ///< [m] typical fold radius of the drape: a level with edges h
@@ -161,6 +164,10 @@ struct GarmentDesc {
     double importance = 1.0;  ///< [-] weight of its error when the budget is tight; > 0
     int32_t forceLevel = -1;  ///< [-] simulate at this uniform level every frame, whatever the
                               ///< schedule says (cut-scenes, reference runs); -1 = scheduled
+    double inertiaScale = 1.0; ///< [-] how much of the character's motion the cloth feels: the
+                              ///< forces of its root's acceleration and turning (linear, centrifugal,
+                              ///< Coriolis, Euler); 1 = full physics, 0 = carried rigidly with the
+                              ///< root (NvCloth's and Unity's inertia scale); [0, 2]
 };
 
 /// A camera: how the world lands on screen (column-major, OpenGL clip convention).
@@ -267,7 +274,9 @@ public:
 
     Result<CharacterId> addCharacter(const CharacterDesc& desc);
     Status removeCharacter(CharacterId id);  ///< also removes its garments
-    /// Moves a character's root [m] and heading [rad] for the next step.
+    /// Moves a character's root [m] and heading [rad] for the next step. Its garments feel the
+    /// root's motion (see GarmentDesc::inertiaScale); a move faster than 100 m/s or a turn faster
+    /// than four turns a second within one step is a teleport: the garments are carried along.
     Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
     /// Host-skinned bodies: this frame's vertices in world space (xyz floats, `stride` bytes apart).
     Status setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t vertexCount,

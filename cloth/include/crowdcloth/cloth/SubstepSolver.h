@@ -49,7 +49,16 @@ struct SubstepLane {
                                    ///< the end of the step; it moves there linearly over the substeps
     Span<const Contact> contacts;  ///< body contacts for the step (geometry at its end), by vertex
     Vec3 acceleration{0.0, -9.81, 0.0};  ///< [m/s^2] uniform external acceleration (gravity in the
-                                         ///< simulation's frame)
+                                         ///< simulation's frame, less the frame origin's acceleration)
+    /// The simulation's frame turns about its origin at this rate (rad/s, in the frame's axes):
+    /// Coriolis -2 w x v, centrifugal -w x (w x r) and Euler -dw/dt x r act on every vertex, scaled
+    /// by fictitiousScale (1 = full physics; an artist's inertia scale below, as NvCloth's).
+    Vec3 frameAngularVelocity = Vec3::Zero();
+    Vec3 frameAngularAcceleration = Vec3::Zero();  ///< [rad/s^2] dw/dt over the step
+    double fictitiousScale = 1.0;                  ///< [-] scale of the rotation's forces; [0, 10]
+    /// [1/s] velocities in the simulation's frame decay at this rate (exactly, per substep): the
+    /// air and the cloth's internal friction, which let a swing settle (NvCloth's damping); >= 0
+    double velocityDamping = 0.0;
 };
 
 /// What the step did to one lane.

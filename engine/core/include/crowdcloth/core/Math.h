@@ -14,6 +14,8 @@ using Mat2 = Eigen::Matrix2d;
 using Mat3 = Eigen::Matrix3d;
 using Mat4 = Eigen::Matrix4d;
 
+constexpr double kPi = 3.14159265358979323846;
+
 inline bool isFinite(const Vec3& v) {
     return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
