@@ -20,6 +20,7 @@ TEST(Png, WrittenFrameReadsBackPixelForPixel) {
     r->beginFrame(camera.viewProjection, sky);
     r->drawGround(5.0f, 1.0f);
     facingPlusZ({0.0f, 0.8f, 0.0f}, 0.5f).draw(*r, MeshStyle::garment({0.8f, 0.2f, 0.2f}, {0.2f, 0.2f, 0.8f}));
+    r->drawTitleStrip("png", 1.0f);
     r->endFrame();
     const std::string path = ::testing::TempDir() + "cc_render_roundtrip.png";
     ASSERT_TRUE(r->writePng(path).isOk());
@@ -30,7 +31,7 @@ TEST(Png, WrittenFrameReadsBackPixelForPixel) {
     EXPECT_EQ(h, 32);
     EXPECT_TRUE(std::equal(r->image().begin(), r->image().end(), data)) << "pixels differ after the round trip";
     for (std::size_t i = 3; i < r->image().size(); i += 4)
-        ASSERT_EQ(r->image()[i], 255) << "the frame is opaque, also under shadows (byte " << i << ")";
+        ASSERT_EQ(r->image()[i], 255) << "the frame is opaque, also under shadows and the strip (byte " << i << ")";
     stbi_image_free(data);
     std::remove(path.c_str());
 }

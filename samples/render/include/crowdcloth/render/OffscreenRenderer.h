@@ -51,6 +51,7 @@ struct MeshStyle {
 ///   r->drawGround(50.0f, 2.0f);                         // first: shadows fall on it
 ///   r->drawMesh(positions, normals, vertexCount, indices, triangleCount, MeshStyle::body(skin));
 ///   r->drawMesh(..., MeshStyle::garment(red, darkRed));
+///   r->drawTitleStrip("frame 120  3.4 ms  200 garments");  // last: drawn over the scene
 ///   r->endFrame();
 ///   r->writePng("frame.png");
 class OffscreenRenderer {
@@ -72,6 +73,11 @@ public:
     /// The same in one colour on both sides, lit from both sides, casting a shadow.
     void drawMesh(const float* positions, const float* normals, uint32_t vertexCount, const uint32_t* indices,
                   uint32_t triangleCount, const float color[3]);
+    /// ASCII text with its top-left corner at (x, y) image pixels (y down), `scale` pixels per font
+    /// pixel (the font is 12 font pixels per line). Drawn over everything drawn so far.
+    void drawText(float x, float y, const std::string& text, const Rgb& colour, float scale = 2.0f);
+    /// A semi-transparent dark strip across the top of the frame with `text` in white on it.
+    void drawTitleStrip(const std::string& text, float scale = 2.0f);
     /// Finishes the frame; the image is then readable.
     void endFrame();
 
