@@ -89,7 +89,7 @@ public:
 
 private:
     OffscreenRenderer() = default;
-    void drawShadow(const uint32_t* indices, uint32_t triangleCount);
+    void drawShadow(uint32_t triangleCount);
     struct Context;
     std::unique_ptr<Context> mContext;
     RendererOptions mOptions;
