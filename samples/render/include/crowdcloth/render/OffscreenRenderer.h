@@ -67,7 +67,8 @@ public:
     /// A ground grid at y = 0 over [-extent, extent]^2 [m]. Draw it before the meshes: a mesh's
     /// shadow is laid onto the ground as the mesh is drawn.
     void drawGround(float extent, float spacing);
-    /// Triangles (xyz floats, unit normals, 3 indices each). Casts its shadow on the ground now.
+    /// Triangles (xyz floats, unit normals, 3 indices each); the arrays need only outlive the call.
+    /// Its shadow (style.castsShadow) is laid on the ground drawn so far, right away.
     void drawMesh(const float* positions, const float* normals, uint32_t vertexCount, const uint32_t* indices,
                   uint32_t triangleCount, const MeshStyle& style);
     /// The same in one colour on both sides, lit from both sides, casting a shadow.
