@@ -2,17 +2,65 @@
 
 #include "Studies.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include <Eigen/Geometry>
 
 namespace crowd {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Cloth colours of the crowd (outside); the inside is drawn darker.
+const std::array<float, 3> kCapeColours[] = {{0.70f, 0.13f, 0.13f}, {0.55f, 0.10f, 0.45f}, {0.15f, 0.45f, 0.25f}};
+const std::array<float, 3> kSkirtColours[] = {{0.15f, 0.33f, 0.70f}, {0.80f, 0.55f, 0.15f}, {0.20f, 0.55f, 0.60f}};
+const std::array<float, 3> kDressColours[] = {{0.85f, 0.75f, 0.30f}, {0.30f, 0.25f, 0.60f}, {0.75f, 0.35f, 0.45f}};
+const std::array<float, 3> kPonchoColours[] = {{0.45f, 0.30f, 0.15f}, {0.85f, 0.40f, 0.10f}, {0.35f, 0.50f, 0.20f}};
+
+double smoothstep(double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+}
+
+} // namespace
+
+std::vector<CameraKey> Plaza::defaultCameraPath(const PlazaSettings& settings) {
+    const double extent = 0.5 * settings.spacing * std::sqrt(double(std::max(settings.characters, 1)));
+    const double wide = 3.0 + 1.1 * extent;
+    // Wide shot (0-6 s), into a close-up of character 0 from behind and to its side (8-13 s),
+    // round to its front (13-15 s), back out (17-20 s); then again.
+    std::vector<CameraKey> path;
+    path.push_back({0.0, {wide, 1.7 + 0.15 * wide, 0.0}, {0.0, 1.0, 0.0}, -1});
+    path.push_back({6.0, {0.0, 1.7 + 0.15 * wide, wide}, {0.0, 1.0, 0.0}, -1});
+    path.push_back({8.0, {-1.6, 1.6, -2.4}, {0.0, 1.1, 0.0}, 0});
+    path.push_back({13.0, {-2.2, 1.4, 0.4}, {0.0, 1.1, 0.0}, 0});
+    path.push_back({15.0, {-1.0, 1.5, 2.4}, {0.0, 1.1, 0.0}, 0});
+    path.push_back({17.0, {-wide, 1.7 + 0.15 * wide, 0.0}, {0.0, 1.0, 0.0}, -1});
+    path.push_back({20.0, {wide, 1.7 + 0.15 * wide, 0.0}, {0.0, 1.0, 0.0}, -1});
+    return path;
+}
+
 cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings) {
     Plaza plaza;
     std::mt19937 rng(settings.seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     plaza.mExtent = 0.5 * settings.spacing * std::sqrt(double(std::max(settings.characters, 1)));
+    plaza.mCamera = settings.camera.empty() ? defaultCameraPath(settings) : settings.camera;
+    for (std::size_t i = 0; i < plaza.mCamera.size(); ++i) {
+        const CameraKey& k = plaza.mCamera[i];
+        if (!std::isfinite(k.time) || k.time < 0.0 || (i > 0 && !(k.time > plaza.mCamera[i - 1].time)))
+            return cc::Status::invalidArgument("camera key " + std::to_string(i) +
+                                               ": times must be finite, >= 0 and increasing");
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(k.eye[c]) || !std::isfinite(k.target[c]))
+                return cc::Status::invalidArgument("camera key " + std::to_string(i) + ": eye and target must be finite");
+        if (k.follow >= settings.characters)
+            return cc::Status::invalidArgument("camera key at " + std::to_string(k.time) + " s follows character " +
+                                               std::to_string(k.follow) + " of " +
+                                               std::to_string(settings.characters));
+    }
 
     // A few body variants, shared by the whole crowd (bodies are cooked once, like garments).
     std::vector<cc::BodyId> bodies = settings.bodies;
@@ -27,24 +75,38 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         if (!body.isOk()) return body.status();
         bodies.push_back(body.value());
     }
-    cc::ClothAssetDesc capeDesc;
-    capeDesc.width = 0.7;
-    capeDesc.length = 1.0;
-    cc::ClothAssetDesc skirtDesc;
-    skirtDesc.kind = cc::GarmentKind::Skirt;
-    skirtDesc.width = 1.3;
-    skirtDesc.length = 0.6;
-    skirtDesc.cellSize = 0.16;
-    if (imported) {
-        // Any body: the sizes come from each one (fitted garments).
-        capeDesc = cc::ClothAssetDesc{};
-        skirtDesc = cc::ClothAssetDesc{};
-        skirtDesc.kind = cc::GarmentKind::Skirt;
+    // Designs fitted to each body (sizes 0 = measured), in two lengths and cuts each.
+    struct Design {
+        cc::GarmentKind kind;
+        cc::ClothAssetDesc desc;
+        std::vector<cc::AssetId> ids;  // one per variant
+    };
+    const cc::GarmentKind kinds[4] = {cc::GarmentKind::Cape, cc::GarmentKind::Skirt, cc::GarmentKind::Dress,
+                                      cc::GarmentKind::Poncho};
+    const double shares[4] = {settings.garments.cape, settings.garments.skirt, settings.garments.dress,
+                              settings.garments.poncho};
+    double total = 0.0;
+    for (double s : shares) {
+        if (!(s >= 0.0 && std::isfinite(s))) return cc::Status::invalidArgument("garment shares must be >= 0");
+        total += s;
     }
-    auto cape = world.addClothAsset(capeDesc);
-    if (!cape.isOk()) return cape.status();
-    auto skirt = world.addClothAsset(skirtDesc);
-    if (!skirt.isOk()) return skirt.status();
+    if (!(total > 0.0)) return cc::Status::invalidArgument("garment shares must not all be 0");
+    std::vector<std::vector<cc::AssetId>> variants(4);
+    for (int k = 0; k < 4; ++k) {
+        if (shares[k] == 0.0) continue;
+        for (int v = 0; v < 2; ++v) {
+            cc::ClothAssetDesc d;
+            d.kind = kinds[k];
+            d.cut = v == 0 ? cc::GarmentCut::ALine : kinds[k] == cc::GarmentKind::Skirt ? cc::GarmentCut::Circle
+                                                                                        : cc::GarmentCut::Straight;
+            const double baseLength[4] = {0.5, 0.3, 0.45, 0.3};
+            d.relativeLength = baseLength[k] * (v == 0 ? 1.0 : 0.8);
+            d.velocityDamping = settings.velocityDamping;
+            auto id = world.addClothAsset(d);
+            if (!id.isOk()) return id.status();
+            variants[k].push_back(id.value());
+        }
+    }
 
     for (int i = 0; i < settings.characters; ++i) {
         const double roll = unit(rng);
@@ -54,12 +116,17 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         w.cx = (2.0 * unit(rng) - 1.0) * plaza.mExtent;
         w.cz = (2.0 * unit(rng) - 1.0) * plaza.mExtent;
         w.radius = 2.0 + 6.0 * unit(rng);
-        w.phase = 2.0 * M_PI * unit(rng);
+        w.phase = 2.0 * kPi * unit(rng);
         const double speed = imported ? settings.walkSpeed : idle ? 0.0 : runs ? 4.6 : 1.35;
         w.angularSpeed = (unit(rng) < 0.5 ? 1.0 : -1.0) * speed / w.radius;
+        if (i == 0) {  // the close-up's character walks near the centre
+            w.cx = w.cz = 0.0;
+            w.radius = 4.0;
+            w.angularSpeed = 1.35 / w.radius;
+        }
         cc::CharacterDesc c;
         c.body = bodies[i % bodies.size()];
-        c.clip = idle ? "idle" : runs ? "run" : "walk";
+        c.clip = i == 0 ? "walk" : idle ? "idle" : runs ? "run" : "walk";
         c.clipTime = 3.0 * unit(rng);
         if (imported) {
             c.clip = settings.clip.empty() ? nullptr : settings.clip.c_str();
@@ -69,14 +136,24 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         }
         auto character = world.addCharacter(c);
         if (!character.isOk()) return character.status();
-        const bool wearsSkirt = unit(rng) < 0.35;
-        auto garment = world.addGarment(wearsSkirt ? skirt.value() : cape.value(), character.value(), {});
+        double pick = unit(rng) * total;
+        int kind = 0;
+        while (kind < 3 && (shares[kind] == 0.0 || pick >= shares[kind])) pick -= shares[kind++];
+        if (i == 0 && shares[0] > 0.0) kind = 0;  // the close-up shows a cape's swing
+        const int variant = int(unit(rng) * 2.0) % 2;
+        cc::GarmentDesc gd;
+        gd.inertiaScale = settings.inertiaScale;
+        auto garment = world.addGarment(variants[kind][variant], character.value(), gd);
         if (!garment.isOk()) return garment.status();
+        const auto* palette = kind == 0 ? kCapeColours : kind == 1 ? kSkirtColours : kind == 2 ? kDressColours
+                                                                                             : kPonchoColours;
         plaza.mWalkers.push_back(w);
         plaza.mCharacters.push_back(character.value());
         plaza.mGarments.push_back(garment.value());
-        plaza.mKinds.push_back(int(wearsSkirt ? cc::GarmentKind::Skirt : cc::GarmentKind::Cape));
+        plaza.mKinds.push_back(int(kinds[kind]));
+        plaza.mColours.push_back(palette[int(unit(rng) * 3.0) % 3]);
     }
+    plaza.mRoots.resize(plaza.mWalkers.size());
     return plaza;
 }
 
@@ -89,12 +166,39 @@ cc::Status Plaza::update(cc::World& world, double t, int viewportWidth, int view
         const double dx = -std::sin(angle) * w.angularSpeed, dz = std::cos(angle) * w.angularSpeed;
         const double yaw = w.angularSpeed == 0.0 ? w.phase : std::atan2(dx, dz);
         if (cc::Status s = world.setCharacterRoot(mCharacters[i], position, yaw); !s) return s;
+        mRoots[i] = {position[0], position[1], position[2], yaw};
     }
-    // The camera circles the plaza at walking height and dollies in and out every 20 s.
-    const double orbit = 0.05 * t, dolly = 0.5 + 0.45 * std::cos(2.0 * M_PI * t / 20.0);
-    const double radius = 3.0 + dolly * 1.2 * mExtent;
-    const Eigen::Vector3d eye(radius * std::cos(orbit), 1.7 + 0.15 * radius, radius * std::sin(orbit));
-    const Eigen::Vector3d target(0.2 * radius * std::cos(orbit), 1.0, 0.2 * radius * std::sin(orbit));
+    return pointCamera(world, t, viewportWidth, viewportHeight);
+}
+
+cc::Status Plaza::pointCamera(cc::World& world, double t, int viewportWidth, int viewportHeight) {
+    // Where a key puts the eye and target at time t (a followed character moves).
+    auto place = [&](const CameraKey& k, Eigen::Vector3d& eye, Eigen::Vector3d& target) {
+        eye = Eigen::Vector3d(k.eye[0], k.eye[1], k.eye[2]);
+        target = Eigen::Vector3d(k.target[0], k.target[1], k.target[2]);
+        if (k.follow < 0) return;
+        const auto& r = mRoots[std::size_t(k.follow)];
+        const Eigen::Matrix3d turn = Eigen::AngleAxisd(r[3], Eigen::Vector3d::UnitY()).toRotationMatrix();
+        const Eigen::Vector3d root(r[0], r[1], r[2]);
+        eye = root + turn * eye;
+        target = root + turn * target;
+    };
+    Eigen::Vector3d eye, target;
+    if (mCamera.size() == 1) {
+        place(mCamera[0], eye, target);
+    } else {
+        const double period = mCamera.back().time;
+        const double local = period > 0.0 ? std::fmod(t, period) : 0.0;
+        std::size_t k = 0;
+        while (k + 2 < mCamera.size() && local >= mCamera[k + 1].time) ++k;
+        const double span = mCamera[k + 1].time - mCamera[k].time;
+        const double s = smoothstep(span > 0.0 ? (local - mCamera[k].time) / span : 1.0);
+        Eigen::Vector3d e0, t0, e1, t1;
+        place(mCamera[k], e0, t0);
+        place(mCamera[k + 1], e1, t1);
+        eye = e0 + s * (e1 - e0);
+        target = t0 + s * (t1 - t0);
+    }
     lookAt(eye, target, double(viewportWidth) / viewportHeight, mViewProjection);
     cc::CameraDesc camera;
     for (int k = 0; k < 16; ++k) camera.viewProjection[k] = mViewProjection[k];

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -8,6 +9,20 @@
 
 namespace crowd {
 
+/// Shares of the crowd wearing each garment kind (normalised; 0 = none).
+struct GarmentMix {
+    double cape = 0.35, skirt = 0.25, dress = 0.2, poncho = 0.2;
+};
+
+/// One key of the camera path. With `follow` >= 0 the eye and target are offsets from that
+/// character's root in its own frame (x right, y up, z forward), so the camera keeps up with it.
+struct CameraKey {
+    double time = 0.0;                    ///< [s] keys in increasing time; the path loops after the last
+    std::array<double, 3> eye{0, 0, 0};   ///< [m]
+    std::array<double, 3> target{0, 0, 0};
+    int follow = -1;                      ///< character index, -1 = plaza coordinates
+};
+
 /// How a plaza crowd is laid out; the same settings give the same crowd.
 struct PlazaSettings {
     int characters = 200;
@@ -15,15 +30,21 @@ struct PlazaSettings {
     double runnerFraction = 0.1; ///< [-] characters that run
     double idleFraction = 0.1;   ///< [-] characters that stand
     uint32_t seed = 1;
+    GarmentMix garments;
+    double velocityDamping = 0.4; ///< [1/s] the garments' (ClothAssetDesc::velocityDamping)
+    double inertiaScale = 1.0;    ///< [-] the garments' (GarmentDesc::inertiaScale)
+    /// The camera path; empty = the built-in one (a wide shot circling the crowd, a flight into a
+    /// close-up of the character nearest the centre, and back, every 20 s).
+    std::vector<CameraKey> camera;
     /// Imported bodies to dress instead of the mannequins (round robin), each playing `clip` (by
-    /// name; empty = its first clip) while walking its circle, in fitted capes and skirts.
+    /// name; empty = its first clip) while walking its circle, in fitted garments.
     std::vector<cc::BodyId> bodies;
     std::string clip;
     double walkSpeed = 1.2;      ///< [m/s] imported characters' speed round their circles
 };
 
-/// A plaza of mannequins (or imported characters) walking circles, each wearing a cape or a
-/// skirt, and a camera that circles and dollies through it.
+/// A plaza of mannequins (or imported characters) walking and running circles (turning all the
+/// while) or standing, each wearing a cape, skirt, dress or poncho, and a camera on a path through it.
 class Plaza {
 public:
     static cc::Result<Plaza> create(cc::World& world, const PlazaSettings& settings);
@@ -35,16 +56,27 @@ public:
     const double* viewProjection() const { return mViewProjection; }
     const std::vector<cc::CharacterId>& characters() const { return mCharacters; }
     const std::vector<cc::GarmentId>& garments() const { return mGarments; }
-    const std::vector<int>& garmentKinds() const { return mKinds; }
+    const std::vector<int>& garmentKinds() const { return mKinds; }  ///< cc::GarmentKind per garment
+    /// Outside colour (RGB in [0, 1]) of each garment; the inside is a darker shade of it.
+    const std::vector<std::array<float, 3>>& garmentColours() const { return mColours; }
+    /// The camera path in use (the settings' or the built-in one).
+    const std::vector<CameraKey>& cameraPath() const { return mCamera; }
+    /// The built-in camera path for a plaza of this many characters (written out as the example scene).
+    static std::vector<CameraKey> defaultCameraPath(const PlazaSettings& settings);
 
 private:
     struct Walker {
-        double cx, cz, radius, phase, angularSpeed;
+        double cx, cz, radius, phase, angularSpeed;  ///< [rad/s] signed: the direction round
     };
+    cc::Status pointCamera(cc::World& world, double t, int viewportWidth, int viewportHeight);
+
     std::vector<Walker> mWalkers;
     std::vector<cc::CharacterId> mCharacters;
     std::vector<cc::GarmentId> mGarments;
-    std::vector<int> mKinds;  ///< GarmentKind per garment
+    std::vector<int> mKinds;
+    std::vector<std::array<float, 3>> mColours;
+    std::vector<CameraKey> mCamera;
+    std::vector<std::array<double, 4>> mRoots;  ///< this frame's x, y, z, yaw per character
     double mExtent = 10.0;
     double mViewProjection[16] = {};
 };

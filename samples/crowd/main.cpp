@@ -99,8 +99,6 @@ void progress(int frame, int frames, double ms) {
     if (frame == frames) std::fprintf(stderr, "\n");
 }
 
-const float kCapeColour[3] = {0.70f, 0.15f, 0.15f};
-const float kSkirtColour[3] = {0.15f, 0.35f, 0.70f};
 const float kBodyColour[3] = {0.80f, 0.72f, 0.62f};
 
 cc::Status renderFrame(cc::World& world, const crowd::Plaza& plaza, cc::render::OffscreenRenderer& renderer,
@@ -112,12 +110,15 @@ cc::Status renderFrame(cc::World& world, const crowd::Plaza& plaza, cc::render::
         auto body = world.characterMesh(plaza.characters()[i]);
         if (!body.isOk()) return body.status();
         const cc::RenderMeshView& b = body.value();
-        renderer.drawMesh(b.positions, b.normals, b.vertexCount, b.indices, b.triangleCount, kBodyColour);
+        renderer.drawMesh(b.positions, b.normals, b.vertexCount, b.indices, b.triangleCount,
+                          cc::render::MeshStyle::body({kBodyColour[0], kBodyColour[1], kBodyColour[2]}));
         auto garment = world.renderMesh(plaza.garments()[i]);
         if (!garment.isOk()) return garment.status();
         const cc::RenderMeshView& g = garment.value();
+        const auto& outside = plaza.garmentColours()[i];
+        const cc::render::Rgb inside{0.6f * outside[0], 0.6f * outside[1], 0.6f * outside[2]};
         renderer.drawMesh(g.positions, g.normals, g.vertexCount, g.indices, g.triangleCount,
-                          plaza.garmentKinds()[i] == int(cc::GarmentKind::Skirt) ? kSkirtColour : kCapeColour);
+                          cc::render::MeshStyle::garment({outside[0], outside[1], outside[2]}, inside));
     }
     renderer.endFrame();
     return renderer.writePng(path);
