@@ -66,6 +66,8 @@ constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
+/// [m] farthest a character may stand from the origin: float render meshes keep 1 m there.
+constexpr double kMaxCoordinate = 1e7;
 /// A root moving or turning faster than this in one frame teleported (see setCharacterRoot).
 constexpr double kTeleportSpeed = 100.0;          ///< [m/s]
 constexpr double kTeleportYawRate = 4.0 * 2.0 * kPi;  ///< [rad/s] four turns a second
@@ -138,6 +140,8 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
     const Vec3 position(desc.position[0], desc.position[1], desc.position[2]);
     if (!isFinite(position) || !std::isfinite(desc.yaw))
         return Status::invalidArgument("CharacterDesc.position and yaw must be finite");
+    if (position.cwiseAbs().maxCoeff() > kMaxCoordinate)
+        return Status::invalidArgument("CharacterDesc.position beyond " + std::to_string(kMaxCoordinate) + " m");
     if (!(desc.playbackRate >= 0.0 && desc.playbackRate <= 10.0))
         return Status::invalidArgument("CharacterDesc.playbackRate must be in [0, 10]");
     auto c = std::make_unique<CharacterInstance>();
@@ -171,6 +175,9 @@ Status WorldImpl::setCharacterRoot(CharacterId id, const double position[3], dou
     const Vec3 p(position[0], position[1], position[2]);
     if (!isFinite(p) || !std::isfinite(yaw))
         return Status::invalidArgument("setCharacterRoot: position and yaw must be finite");
+    if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+        return Status::invalidArgument("setCharacterRoot: position beyond " + std::to_string(kMaxCoordinate) +
+                                       " m (render meshes are floats: a metre apart there)");
     c->position = p;
     c->yaw = yaw;
     return Status::ok();

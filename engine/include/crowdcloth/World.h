@@ -274,7 +274,8 @@ public:
 
     Result<CharacterId> addCharacter(const CharacterDesc& desc);
     Status removeCharacter(CharacterId id);  ///< also removes its garments
-    /// Moves a character's root [m] and heading [rad] for the next step. Its garments feel the
+    /// Moves a character's root [m] (within 1e7 m of the origin) and heading [rad] for the next
+    /// step. Its garments feel the
     /// root's motion (see GarmentDesc::inertiaScale); a move faster than 100 m/s or a turn faster
     /// than four turns a second within one step is a teleport: the garments are carried along.
     Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
