@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <queue>
 #include <string>
 #include <vector>
 
@@ -386,10 +385,16 @@ CcdOutcome runCcd(Pair pair, const std::array<Vec3, 4>& start, const std::array<
         fillHit(pair, search, 0.0, outHit);
         return CcdOutcome::Contact;
     }
-    std::vector<SearchBox> storage;
-    storage.reserve(64);
-    std::priority_queue<SearchBox, std::vector<SearchBox>, LaterBox> queue(LaterBox{}, std::move(storage));
-    auto pushHalves = [&queue](const SearchBox& box, int splitAxis) {
+    // The earliest box first: a binary heap (as std::priority_queue's) on storage this thread
+    // keeps, so that the CCD of every garment of every frame does not allocate.
+    thread_local std::vector<SearchBox> heap;
+    heap.clear();
+    const LaterBox later;
+    auto push = [&](const SearchBox& box) {
+        heap.push_back(box);
+        std::push_heap(heap.begin(), heap.end(), later);
+    };
+    auto pushHalves = [&push](const SearchBox& box, int splitAxis) {
         SearchBox lower = box, upper = box;
         if (splitAxis == 0) {
             lower.t1 = upper.t0 = 0.5 * (box.t0 + box.t1);
@@ -398,13 +403,14 @@ CcdOutcome runCcd(Pair pair, const std::array<Vec3, 4>& start, const std::array<
         } else {
             lower.v1 = upper.v0 = 0.5 * (box.v0 + box.v1);
         }
-        queue.push(lower);
-        queue.push(upper);
+        push(lower);
+        push(upper);
     };
     pushHalves(root, axis);
-    while (!queue.empty()) {
-        const SearchBox box = queue.top();
-        queue.pop();
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later);
+        const SearchBox box = heap.back();
+        heap.pop_back();
         if (box.t0 >= witness) {
             // Everything before this box was discarded and contact at `witness` is certain.
             fillHit(pair, search, witness, outHit);

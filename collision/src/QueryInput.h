@@ -21,15 +21,20 @@ inline Status checkPoints(Span<const Vec3> points, const char* what) {
 
 /// What every collider checks before a continuous query: the query settings, matching start and
 /// end counts, finite positions. `who` names the collider ("BodyCollider", "CapsuleCollider").
+/// Messages are built only on failure: queries run per garment per frame, and must not allocate.
 inline Status checkContinuousQuery(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
-                                   const std::string& who) {
+                                   const char* who) {
     if (Status s = query.validate(); !s) return s;
     if (start.size() != end.size()) {
-        return Status::invalidArgument(who + "::queryContinuous: " + std::to_string(start.size()) +
+        return Status::invalidArgument(std::string(who) + "::queryContinuous: " + std::to_string(start.size()) +
                                        " start positions but " + std::to_string(end.size()) + " end positions");
     }
-    if (Status s = checkPoints(start, (who + "::queryContinuous (start)").c_str()); !s) return s;
-    return checkPoints(end, (who + "::queryContinuous (end)").c_str());
+    for (const auto* points : {&start, &end}) {
+        if (checkPoints(*points, "").isOk()) continue;
+        const std::string what = std::string(who) + "::queryContinuous (" + (points == &start ? "start" : "end") + ")";
+        return checkPoints(*points, what.c_str());
+    }
+    return Status::ok();
 }
 
 } // namespace cc::collision::detail

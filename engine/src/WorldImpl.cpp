@@ -153,6 +153,8 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
     if (!body->body->hostSkinned) {
         c->pose = CharacterPose(body->body->mannequin.character);
         if (Status s = c->updatePose(); !s) return s;
+        // Its capsules now rather than on first need in some frame's step, which then allocates.
+        if (auto proxies = c->proxyColliderAt(*mDevice, mTime, 0.0); !proxies.isOk()) return proxies.status();
     } else {
         c->skinnedPositions = body->body->mesh().bindPositions; // until the host hands in a pose
     }
@@ -304,7 +306,8 @@ Status WorldImpl::scheduleFrame(double dt) {
     settings.frameDt = dt;
     settings.maxUpdateInterval = int(mDesc.maxUpdateInterval);
     settings.refineWithSlack = mDesc.spendSlack;
-    if (Status s = lod::scheduleGarments(settings, mCameras, mProfiles, mRequests, mSchedules); !s) return s;
+    if (Status s = lod::scheduleGarments(settings, mCameras, mProfiles, mRequests, mSchedules, mSchedulerWork); !s)
+        return s;
     mFrameStats.budgetCpuMs = settings.budgetMs;
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         lod::GarmentSchedule& s = mSchedules[i];

@@ -113,6 +113,7 @@ private:
     std::vector<uint32_t> mProfileOfAsset;  ///< asset index1 -> profile slot this frame
     std::vector<lod::GarmentRequest> mRequests;
     std::vector<lod::GarmentSchedule> mSchedules;
+    lod::SchedulerWorkspace mSchedulerWork;
     std::vector<std::size_t> mWork;          ///< items updated or seen this frame
     std::vector<std::size_t> mUpdates;       ///< items updated this frame
     std::vector<Batch> mBatches;             ///< this frame's solver batches (storage kept)

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
+#include <memory>
 #include <string>
 
 namespace cc::lod {
@@ -14,7 +14,7 @@ std::string where(const char* what, std::size_t index) {
     return std::string(what) + " " + std::to_string(index);
 }
 
-Status validateInputs(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
+Status validateInputs(std::vector<uint64_t>& ids, const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
                       Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
                       Span<GarmentSchedule> outSchedules) {
     if (Status s = settings.validate(); !s) return s;
@@ -30,38 +30,37 @@ Status validateInputs(const SchedulerSettings& settings, Span<const SchedulerCam
             return Status::invalidArgument(where("profile", p) + " has no levels");
         for (std::size_t l = 0; l < profiles[p].levels.size(); ++l) {
             const LevelProfile& level = profiles[p].levels[l];
-            const std::string at = where("profile", p) + " " + where("level", l);
+            auto at = [&] { return where("profile", p) + " " + where("level", l); };  // on error only
             if (!std::isfinite(level.errorMetres) || level.errorMetres < 0.0)
-                return Status::invalidArgument(at + ": errorMetres must be finite and >= 0");
+                return Status::invalidArgument(at() + ": errorMetres must be finite and >= 0");
             bool offered = false;
             for (double cost : level.costMs) {
                 if (!std::isfinite(cost))
-                    return Status::invalidArgument(at + ": costMs is not finite");
+                    return Status::invalidArgument(at() + ": costMs is not finite");
                 offered = offered || cost > 0.0;
             }
-            if (!offered) return Status::invalidArgument(at + " offers no solver (all costMs <= 0)");
+            if (!offered) return Status::invalidArgument(at() + " offers no solver (all costMs <= 0)");
             if (level.substeps < 1 || level.iterations < 1)
-                return Status::invalidArgument(at + ": substeps and iterations must be >= 1");
+                return Status::invalidArgument(at() + ": substeps and iterations must be >= 1");
         }
     }
     if (outSchedules.size() != requests.size())
         return Status::invalidArgument("scheduleGarments: outSchedules holds " +
                                        std::to_string(outSchedules.size()) + " entries for " +
                                        std::to_string(requests.size()) + " requests");
-    std::vector<uint64_t> ids;
-    ids.reserve(requests.size());
+    ids.clear();
     for (std::size_t i = 0; i < requests.size(); ++i) {
         const GarmentRequest& r = requests[i];
-        const std::string at = "garment " + std::to_string(r.id);
+        auto at = [&] { return "garment " + std::to_string(r.id); };  // on error only
         if (r.profile >= profiles.size())
-            return Status::invalidArgument(at + ": profile " + std::to_string(r.profile) +
+            return Status::invalidArgument(at() + ": profile " + std::to_string(r.profile) +
                                            " out of range (" + std::to_string(profiles.size()) + ")");
-        if (!isFinite(r.center)) return Status::invalidArgument(at + ": center is not finite");
-        if (!finitePositive(r.radius)) return Status::invalidArgument(at + ": radius must be > 0");
+        if (!isFinite(r.center)) return Status::invalidArgument(at() + ": center is not finite");
+        if (!finitePositive(r.radius)) return Status::invalidArgument(at() + ": radius must be > 0");
         if (!std::isfinite(r.speed) || r.speed < 0.0)
-            return Status::invalidArgument(at + ": speed must be finite and >= 0");
+            return Status::invalidArgument(at() + ": speed must be finite and >= 0");
         if (!finitePositive(r.importance))
-            return Status::invalidArgument(at + ": importance must be > 0");
+            return Status::invalidArgument(at() + ": importance must be > 0");
         ids.push_back(r.id);
     }
     std::sort(ids.begin(), ids.end());
@@ -196,11 +195,47 @@ double totalCost(const std::vector<GarmentView>& garments) {
     return total;
 }
 
-void degradeToBudget(std::vector<GarmentView>& garments, const SchedulerSettings& s) {
+/// A priority queue on a kept vector (std::priority_queue cannot lend its storage back).
+template <typename Order>
+struct MoveQueue {
+    std::vector<Move>& heap;
+    Order order;
+    bool empty() const { return heap.empty(); }
+    const Move& top() const { return heap.front(); }
+    void push(const Move& m) {
+        heap.push_back(m);
+        std::push_heap(heap.begin(), heap.end(), order);
+    }
+    void pop() {
+        std::pop_heap(heap.begin(), heap.end(), order);
+        heap.pop_back();
+    }
+};
+
+} // namespace
+
+struct SchedulerWorkspace::Buffers {
+    std::vector<uint64_t> ids;
+    std::vector<std::size_t> byId;
+    std::vector<GarmentView> garments;
+    std::vector<int> versions;
+    std::vector<Move> heap;
+};
+
+SchedulerWorkspace::SchedulerWorkspace() : mBuffers(std::make_unique<Buffers>()) {}
+SchedulerWorkspace::~SchedulerWorkspace() = default;
+SchedulerWorkspace::SchedulerWorkspace(SchedulerWorkspace&&) noexcept = default;
+SchedulerWorkspace& SchedulerWorkspace::operator=(SchedulerWorkspace&&) noexcept = default;
+
+namespace {
+
+void degradeToBudget(std::vector<GarmentView>& garments, const SchedulerSettings& s, SchedulerWorkspace::Buffers& w) {
     double total = totalCost(garments);
     if (total <= s.budgetMs) return;
-    std::vector<int> versions(garments.size(), 0);
-    std::priority_queue<Move, std::vector<Move>, CheapestLoss> queue;
+    std::vector<int>& versions = w.versions;
+    versions.assign(garments.size(), 0);
+    w.heap.clear();
+    MoveQueue<CheapestLoss> queue{w.heap, {}};
     for (std::size_t i = 0; i < garments.size(); ++i) {
         Move m;
         if (bestDegrade(garments[i], i, 0, s.maxUpdateInterval, m)) queue.push(m);
@@ -217,12 +252,14 @@ void degradeToBudget(std::vector<GarmentView>& garments, const SchedulerSettings
     }
 }
 
-void refineWithSlack(std::vector<GarmentView>& garments, const SchedulerSettings& s) {
+void refineWithSlack(std::vector<GarmentView>& garments, const SchedulerSettings& s, SchedulerWorkspace::Buffers& w) {
     const double ceiling = s.budgetMs * (1.0 - s.hysteresis);
     double total = totalCost(garments);
     if (total >= ceiling) return;
-    std::vector<int> versions(garments.size(), 0);
-    std::priority_queue<Move, std::vector<Move>, LargestGain> queue;
+    std::vector<int>& versions = w.versions;
+    versions.assign(garments.size(), 0);
+    w.heap.clear();
+    MoveQueue<LargestGain> queue{w.heap, {}};
     for (std::size_t i = 0; i < garments.size(); ++i) {
         Move m;
         if (bestRefine(garments[i], i, 0, m)) queue.push(m);
@@ -325,14 +362,24 @@ ScreenProjection projectSphere(const SchedulerCamera& camera, const Vec3& center
 Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
                         Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
                         Span<GarmentSchedule> outSchedules) {
-    if (Status s = validateInputs(settings, cameras, profiles, requests, outSchedules); !s) return s;
+    SchedulerWorkspace work;
+    return scheduleGarments(settings, cameras, profiles, requests, outSchedules, work);
+}
 
-    std::vector<std::size_t> byId(requests.size());
+Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
+                        Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
+                        Span<GarmentSchedule> outSchedules, SchedulerWorkspace& work) {
+    SchedulerWorkspace::Buffers& w = *work.mBuffers;
+    if (Status s = validateInputs(w.ids, settings, cameras, profiles, requests, outSchedules); !s) return s;
+
+    std::vector<std::size_t>& byId = w.byId;
+    byId.resize(requests.size());
     for (std::size_t i = 0; i < byId.size(); ++i) byId[i] = i;
     std::sort(byId.begin(), byId.end(),
               [&](std::size_t a, std::size_t b) { return requests[a].id < requests[b].id; });
 
-    std::vector<GarmentView> garments(requests.size());
+    std::vector<GarmentView>& garments = w.garments;
+    garments.assign(requests.size(), GarmentView{});
     for (std::size_t k = 0; k < byId.size(); ++k) {
         const GarmentRequest& r = requests[byId[k]];
         GarmentView& g = garments[k];
@@ -350,8 +397,8 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
         g.lagMetresPerFrame2 = 0.5 * settings.typicalAcceleration * r.speed * settings.frameDt * settings.frameDt;
         g.choice = toleranceChoice(g, settings);
     }
-    degradeToBudget(garments, settings);
-    if (settings.refineWithSlack) refineWithSlack(garments, settings);
+    degradeToBudget(garments, settings, w);
+    if (settings.refineWithSlack) refineWithSlack(garments, settings, w);
     for (std::size_t k = 0; k < byId.size(); ++k) outSchedules[byId[k]] = finalSchedule(garments[k], settings);
     return Status::ok();
 }

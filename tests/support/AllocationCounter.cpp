@@ -9,24 +9,51 @@
 // alloc-dealloc-mismatch).
 #include "support/AllocationCounter.h"
 
+#include <dlfcn.h>
+#include <execinfo.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <new>
 
 namespace {
 std::atomic<long> gAllocations{0};
+std::atomic<long> gEmbreeAllocations{0};
+
+std::atomic<bool> gClassify{false};
+
+// Whether Embree (or its TBB) asked for the memory, a few frames up (through libstdc++ when it
+// builds strings): its BVH builds allocate inside the library, which crowdcloth cannot prevent.
+// Unwinding costs microseconds, so only while a test asks for it.
+void countCaller(const void* caller) {
+    if (!gClassify.load(std::memory_order_relaxed)) return;
+    void* frames[6];
+    const int n = backtrace(frames, 6);
+    for (int i = 0; i < n; ++i) {
+        Dl_info info;
+        const void* at = i == 0 ? caller : frames[i];
+        if (dladdr(at, &info) && info.dli_fname &&
+            (std::strstr(info.dli_fname, "libembree") || std::strstr(info.dli_fname, "libtbb"))) {
+            ++gEmbreeAllocations;
+            return;
+        }
+    }
+}
 
 // The nothrow forms give nullptr when out of memory, the others abort.
-void* allocate(std::size_t size, bool nothrow = false) {
+void* allocate(std::size_t size, bool nothrow, const void* caller) {
     ++gAllocations;
+    countCaller(caller);
     void* p = std::malloc(size ? size : 1);
     if (!p && !nothrow) std::abort();
     return p;
 }
 
-void* allocateAligned(std::size_t size, std::align_val_t alignment, bool nothrow = false) {
+void* allocateAligned(std::size_t size, std::align_val_t alignment, bool nothrow, const void* caller) {
     ++gAllocations;
+    countCaller(caller);
     const std::size_t a = std::max(std::size_t(alignment), sizeof(void*));
     // aligned_alloc wants a multiple of the alignment.
     void* p = std::aligned_alloc(a, (std::max<std::size_t>(size, 1) + a - 1) / a * a);
@@ -36,15 +63,17 @@ void* allocateAligned(std::size_t size, std::align_val_t alignment, bool nothrow
 } // namespace
 
 long cc::test::allocationCount() { return gAllocations.load(); }
+long cc::test::embreeAllocationCount() { return gEmbreeAllocations.load(); }
+void cc::test::classifyEmbreeAllocations(bool on) { gClassify = on; }
 
-void* operator new(std::size_t size) { return allocate(size); }
-void* operator new[](std::size_t size) { return allocate(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, true); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, true); }
-void* operator new(std::size_t size, std::align_val_t a) { return allocateAligned(size, a); }
-void* operator new[](std::size_t size, std::align_val_t a) { return allocateAligned(size, a); }
-void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept { return allocateAligned(size, a, true); }
-void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept { return allocateAligned(size, a, true); }
+void* operator new(std::size_t size) { return allocate(size, false, __builtin_return_address(0)); }
+void* operator new[](std::size_t size) { return allocate(size, false, __builtin_return_address(0)); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, true, __builtin_return_address(0)); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return allocate(size, true, __builtin_return_address(0)); }
+void* operator new(std::size_t size, std::align_val_t a) { return allocateAligned(size, a, false, __builtin_return_address(0)); }
+void* operator new[](std::size_t size, std::align_val_t a) { return allocateAligned(size, a, false, __builtin_return_address(0)); }
+void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept { return allocateAligned(size, a, true, __builtin_return_address(0)); }
+void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept { return allocateAligned(size, a, true, __builtin_return_address(0)); }
 
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }

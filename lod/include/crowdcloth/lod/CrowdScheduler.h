@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "crowdcloth/core/Math.h"
@@ -107,6 +108,27 @@ struct SchedulerSettings {
 Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
                         Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
                         Span<GarmentSchedule> outSchedules);
+
+/// Scratch of scheduleGarments kept between frames, so that a frame's schedule allocates nothing
+/// once the crowd's size is steady. Holds no decision: results never depend on it.
+class SchedulerWorkspace {
+public:
+    SchedulerWorkspace();
+    ~SchedulerWorkspace();
+    SchedulerWorkspace(SchedulerWorkspace&&) noexcept;
+    SchedulerWorkspace& operator=(SchedulerWorkspace&&) noexcept;
+    struct Buffers;
+
+private:
+    friend Status scheduleGarments(const SchedulerSettings&, Span<const SchedulerCamera>, Span<const GarmentProfile>,
+                                   Span<const GarmentRequest>, Span<GarmentSchedule>, SchedulerWorkspace&);
+    std::unique_ptr<Buffers> mBuffers;
+};
+
+/// scheduleGarments with kept scratch (the World's every frame).
+Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
+                        Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
+                        Span<GarmentSchedule> outSchedules, SchedulerWorkspace& work);
 
 /// [px per m] at `point` for `camera`, and whether a sphere there is inside the frustum.
 struct ScreenProjection {
