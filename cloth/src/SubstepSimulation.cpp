@@ -59,6 +59,10 @@ Status SubstepSimulation::step(double dt, const SubstepSettings& settings) {
     lane.targets = mTargets;
     lane.contacts = mContacts;
     lane.acceleration = mAcceleration;
+    lane.frameAngularVelocity = mAngularVelocity;
+    lane.frameAngularAcceleration = mAngularAcceleration;
+    lane.fictitiousScale = mFictitiousScale;
+    lane.velocityDamping = mVelocityDamping;
     if (Status s = stepSubsteps(*mLevel, *factor, dt, settings, Span<const SubstepLane>(&lane, 1), mWorkspace,
                                 Span<SubstepLaneReport>(&mReport, 1));
         !s)

@@ -36,6 +36,14 @@ public:
     /// Contacts for the next steps (until replaced); vertex indices of the level.
     void setContacts(std::vector<Contact> contacts) { mContacts = std::move(contacts); }
     void setAcceleration(const Vec3& a) { mAcceleration = a; }
+    /// The simulation's frame turns at `angularVelocity` [rad/s] about its origin (see SubstepLane).
+    void setFrameRotation(const Vec3& angularVelocity, const Vec3& angularAcceleration = Vec3::Zero(),
+                          double scale = 1.0) {
+        mAngularVelocity = angularVelocity;
+        mAngularAcceleration = angularAcceleration;
+        mFictitiousScale = scale;
+    }
+    void setVelocityDamping(double rate) { mVelocityDamping = rate; }  ///< [1/s]
 
     const ClothLevel& level() const { return *mLevel; }
     std::vector<Vec3>& positions() { return mPositions; }
@@ -59,6 +67,9 @@ private:
     std::vector<Vec3> mPositions, mVelocities, mTargets;
     std::vector<Contact> mContacts;
     Vec3 mAcceleration{0.0, -9.81, 0.0};
+    Vec3 mAngularVelocity = Vec3::Zero(), mAngularAcceleration = Vec3::Zero();
+    double mFictitiousScale = 1.0;
+    double mVelocityDamping = 0.0;
     SubstepWorkspace mWorkspace;
     SubstepLaneReport mReport;
 };
