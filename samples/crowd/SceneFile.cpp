@@ -132,6 +132,14 @@ nlohmann::ordered_json cameraJson(const std::vector<CameraKey>& path) {
     return keys;
 }
 
+/// Asset paths as the file stores them: relative to its directory, where readScene resolves them.
+std::vector<std::string> relativeTo(const std::filesystem::path& directory, const std::vector<std::string>& assets) {
+    std::vector<std::string> out;
+    for (const std::string& a : assets)
+        out.push_back(std::filesystem::proximate(std::filesystem::absolute(a), std::filesystem::absolute(directory)).string());
+    return out;
+}
+
 } // namespace
 
 Scene defaultScene() { return Scene{}; }
@@ -168,7 +176,7 @@ cc::Status writeScene(const Scene& s, const std::string& path) {
         {"budgetMs", s.budgetMs},
         {"seconds", s.seconds},
         {"viewport", {{"width", s.width}, {"height", s.height}}},
-        {"assets", s.assets},
+        {"assets", relativeTo(std::filesystem::path(path).parent_path(), s.assets)},
         {"clip", s.clip},
         {"assetHeight", s.assetHeight}};
     std::ofstream out(path);

@@ -24,8 +24,8 @@ struct Scene {
     double budgetMs = 12.0;   ///< [ms] cloth wall time per frame
     double seconds = 10.0;    ///< [s] simulated at 60 Hz
     int width = 960, height = 540;
-    /// Imported characters (paths relative to the scene file), the clip they play, their height [m]
-    /// (0 = as authored).
+    /// Imported characters (paths from the working directory; in the file, relative to the file),
+    /// the clip they play, their standing height [m] (0 = as authored).
     std::vector<std::string> assets;
     std::string clip;
     double assetHeight = 0.0;
