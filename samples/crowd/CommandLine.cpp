@@ -60,8 +60,8 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
         ->check(CLI::IsMember({"none", "lod", "solver", "error"}));
     std::string exportFormat;
     app.add_option("--export", exportFormat, "Write every rendered frame's garment and body meshes to "
-                                             "OUT/export (obj)")
-        ->check(CLI::IsMember({"obj"}));
+                                             "OUT/export (Wavefront OBJ, or binary glTF 2)")
+        ->check(CLI::IsMember({"obj", "glb"}));
     app.add_flag("--frame-stats", o.frameStats, "Write every frame's stats (World::statsJson) to "
                                                 "OUT/frame_stats.jsonl, one JSON line per frame");
     app.add_option("--threads", o.threads, "Threads stepping garments (0 = all)")->check(CLI::Range(0, 1024));
@@ -75,10 +75,10 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every usage error is 2, like a bad scene file
     }
     o.colorBy = kColorBy.at(colorBy);
-    o.exportObj = exportFormat == "obj";
+    o.exportFormat = exportFormat == "obj" ? ExportFormat::Obj : exportFormat == "glb" ? ExportFormat::Glb : ExportFormat::None;
 
     if (o.sceneFile.empty()) {
         o.scene = defaultScene();

@@ -10,6 +10,8 @@ namespace crowd {
 
 /// How garments are coloured in the frames: their own colours, or an overlay from their stats.
 enum class ColorBy { None, Lod, Solver, Error };
+/// What --export writes per rendered frame.
+enum class ExportFormat { None, Obj, Glb };
 
 struct RunOptions {
     Scene scene;
@@ -20,7 +22,7 @@ struct RunOptions {
     bool render = true;
     bool video = true;
     bool frameStats = false;
-    bool exportObj = false;
+    ExportFormat exportFormat = ExportFormat::None;
     ColorBy colorBy = ColorBy::None;
     int supersample = 1;
     int threads = 0;

@@ -5,7 +5,7 @@
 //
 //   cc_crowd [--scene FILE] [--characters N] [--seconds S] [--budget MS] [--threads T]
 //            [--width W] [--height H] [--supersample 1-4] [--color-by none|lod|solver|error]
-//            [--render-every K] [--no-render] [--no-video] [--frame-stats] [--export obj]
+//            [--render-every K] [--no-render] [--no-video] [--frame-stats] [--export obj|glb]
 //            [--asset FILE]... [--clip NAME] [--asset-height M] [--out DIR]
 //   cc_crowd [--scene FILE] [options] --write-scene FILE   writes the scene (default: the built-in
 //            one, samples/crowd/scenes/default.json) and exits; options given override the file's
@@ -18,9 +18,9 @@
 // strip with the frame's numbers), crowd.mp4 (H.264 at 60/render-every fps, unless --no-video),
 // summary.json (what is printed at the end), frames.csv (one row per frame: ms, budget, garments per
 // level, updated, visible, predicted error) and summary.png (its plot, by scripts/plot-summary.py),
-// frame_stats.jsonl with --frame-stats (World::statsJson() per frame), export/frame_NNNNN.obj with
-// --export obj. Exit code: 0, 2 for a bad command line or scene, 1 for a failed run, 3 when garment
-// updates failed.
+// frame_stats.jsonl with --frame-stats (World::statsJson() per frame), export/frame_NNNNN.obj|glb
+// with --export. Exit code: 0; 2 for a bad command line or scene file; 1 for a failed run; 3 when
+// garment updates failed.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -112,9 +112,10 @@ int runCrowd(const RunOptions& o) {
         fs::create_directories(frameDir);
         removeOldFrames(frameDir, ".png");
     }
-    if (o.exportObj) {
+    const char* exportExtension = o.exportFormat == crowd::ExportFormat::Glb ? "glb" : "obj";
+    if (o.exportFormat != crowd::ExportFormat::None) {
         fs::create_directories(exportDir);
-        removeOldFrames(exportDir, ".obj");
+        removeOldFrames(exportDir, std::string(".") + exportExtension);
     }
 
     const int frames = std::max(1, int(std::lround(scene.seconds * 60.0)));
@@ -149,9 +150,12 @@ int runCrowd(const RunOptions& o) {
                         !s)
                         return fail(s.message());
                 }
-                if (o.exportObj) {
-                    const std::string obj = (exportDir / numbered("obj", ++exported)).string();
-                    if (cc::Status s = crowd::exportObj(*world, plaza.value(), obj); !s) return fail(s.message());
+                if (o.exportFormat != crowd::ExportFormat::None) {
+                    const std::string file = (exportDir / numbered(exportExtension, ++exported)).string();
+                    const cc::Status s = o.exportFormat == crowd::ExportFormat::Glb
+                                             ? crowd::exportGlb(*world, plaza.value(), file)
+                                             : crowd::exportObj(*world, plaza.value(), file);
+                    if (!s) return fail(s.message());
                 }
             }
             progress.update(f, stats.totalMs);
@@ -159,7 +163,7 @@ int runCrowd(const RunOptions& o) {
     }
 
     if (renderer) outputs.frames = frameDir.string();
-    if (o.exportObj) outputs.exportDir = exportDir.string();
+    if (o.exportFormat != crowd::ExportFormat::None) outputs.exportDir = exportDir.string();
     if (renderer && o.video && summary.renderedFrames() > 0) {
         const std::string mp4 = (out / "crowd.mp4").string();
         if (cc::Status s = crowd::encodeVideo(frameDir.string(), o.renderEvery, mp4); s) outputs.video = mp4;

@@ -5,12 +5,14 @@ tests/crowd/CMakeLists.txt).
     crowd_cli_test.py run CC_CROWD OUT_DIR          a short rendered run: exit 0, summary.json fields finite
     crowd_cli_test.py reject PATTERN CC_CROWD ARGS  exits non-zero, stderr matches PATTERN
     crowd_cli_test.py roundtrip CC_CROWD OUT_DIR    --write-scene output reads back as the same scene and crowd
+    crowd_cli_test.py export CC_CROWD OUT_DIR       --export obj and glb write every character's body and garment
 """
 import csv
 import json
 import math
 import os
 import re
+import struct
 import subprocess
 import sys
 
@@ -84,6 +86,31 @@ def test_roundtrip(exe, out):
         check(built_in[key] == from_file[key], f"'{key}': {built_in[key]} built in, {from_file[key]} from the file")
 
 
+def test_export(exe, out):
+    characters, frames = 3, 2  # 30 frames rendered every 15th
+    for fmt in ["obj", "glb"]:
+        p = run([exe, "--characters", str(characters), "--seconds", "0.5", "--render-every", "15", "--width", "64",
+                 "--height", "64", "--no-video", "--export", fmt, "--out", os.path.join(out, fmt)])
+        check(p.returncode == 0, f"--export {fmt}: exit code {p.returncode}\n{p.stderr}")
+        directory = os.path.join(out, fmt, "export")
+        files = sorted(n for n in os.listdir(directory) if n.endswith("." + fmt))
+        check(files == [f"frame_{i:05d}.{fmt}" for i in range(1, frames + 1)], f"--export {fmt} wrote {files}")
+        with open(os.path.join(directory, files[-1]), "rb") as f:
+            data = f.read()
+        if fmt == "obj":
+            names = re.findall(rb"^o (\w+)$", data, re.M)
+            faces = len(re.findall(rb"^f ", data, re.M))
+        else:
+            check(data[:4] == b"glTF", "the .glb does not start with the glTF magic")
+            length, = struct.unpack("<I", data[12:16])
+            gltf = json.loads(data[20:20 + length])
+            names = [n["name"].encode() for n in gltf["nodes"] if "mesh" in n]
+            faces = sum(gltf["accessors"][prim["indices"]]["count"] // 3 for m in gltf["meshes"] for prim in m["primitives"])
+        expected = sorted([f"body_{i}".encode() for i in range(characters)] + [f"garment_{i}".encode() for i in range(characters)])
+        check(sorted(names) == expected, f"--export {fmt} meshes {names}")
+        check(faces > 0, f"--export {fmt} has no triangles")
+
+
 def main():
     command, args = sys.argv[1], sys.argv[2:]
     if command == "run":
@@ -92,6 +119,8 @@ def main():
         test_reject(args[0], args[1], args[2:])
     elif command == "roundtrip":
         test_roundtrip(*args)
+    elif command == "export":
+        test_export(*args)
     else:
         sys.exit(f"unknown command {command!r}")
 
