@@ -83,7 +83,11 @@ Scene parse(const Json& root, const std::filesystem::path& directory) {
          {"spacing", [&](const Json& v, const std::string& p) { c.spacing = number(v, p, 0.5, 100.0); }},
          {"runnerFraction", [&](const Json& v, const std::string& p) { c.runnerFraction = number(v, p, 0.0, 1.0); }},
          {"idleFraction", [&](const Json& v, const std::string& p) { c.idleFraction = number(v, p, 0.0, 1.0); }},
-         {"seed", [&](const Json& v, const std::string& p) { c.seed = uint32_t(number(v, p, 0.0, 4294967295.0)); }},
+         {"seed",
+          [&](const Json& v, const std::string& p) {
+              if (!v.is_number_integer()) throw SceneError("'" + p + "' must be an integer, not " + v.dump());
+              c.seed = uint32_t(number(v, p, 0.0, 4294967295.0));
+          }},
          {"garments",
           [&](const Json& v, const std::string& p) {
               forEachKey(v, p,
