@@ -49,11 +49,13 @@ def main():
 
     err.plot(t, c["errorMedianPx"], lw=0.8, label="median")
     err.plot(t, c["errorMaxPx"], lw=0.8, label="max")
+    # Symmetric log: typical errors are fractions of a pixel, a garment around the eye can predict millions.
+    err.set_yscale("symlog", linthresh=0.01)
     err.set_ylabel("px")
     err.set_xlabel("time [s]")
     err.set_ylim(bottom=0)
     err.legend(loc="upper right")
-    err.set_title("predicted error of the garments")
+    err.set_title("predicted error of the garments in view")
 
     fig.tight_layout()
     fig.savefig(png_path, dpi=100)

@@ -21,10 +21,10 @@ cc::Result<FrameLog> FrameLog::open(const std::filesystem::path& out, bool frame
 }
 
 cc::Status FrameLog::record(const cc::World& world, int frame, double time, double budgetMs,
-                            const std::vector<cc::GarmentStats>& garments) {
-    // Over every garment: GarmentStats does not say whether a garment is in view (FrameStats counts them).
+                            const std::vector<cc::GarmentStats>& garments, const std::vector<bool>& inView) {
     std::vector<double> errors;
-    for (const cc::GarmentStats& g : garments) errors.push_back(g.predictedErrorPx);
+    for (std::size_t i = 0; i < garments.size(); ++i)
+        if (inView[i]) errors.push_back(garments[i].predictedErrorPx);
     double median = 0.0, max = 0.0;
     if (!errors.empty()) {
         std::nth_element(errors.begin(), errors.begin() + std::ptrdiff_t(errors.size() / 2), errors.end());

@@ -17,9 +17,10 @@ class FrameLog {
 public:
     /// Opens OUT/frames.csv and, with `frameStats`, OUT/frame_stats.jsonl.
     static cc::Result<FrameLog> open(const std::filesystem::path& out, bool frameStats);
-    /// One row (and line) for the frame just stepped; `garments` are its garments' stats.
+    /// One row (and line) for the frame just stepped; `garments` are its garments' stats, `inView`
+    /// which of them the camera sees (the error columns are over those).
     cc::Status record(const cc::World& world, int frame, double time, double budgetMs,
-                      const std::vector<cc::GarmentStats>& garments);
+                      const std::vector<cc::GarmentStats>& garments, const std::vector<bool>& inView);
 
     const std::filesystem::path& csvPath() const { return mCsvPath; }
     const std::filesystem::path& jsonlPath() const { return mJsonlPath; }  ///< empty without frameStats

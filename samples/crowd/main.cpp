@@ -17,7 +17,7 @@
 // Writes into --out (default crowd_out): frames/frame_NNNNN.png (every render-every frame, title
 // strip with the frame's numbers), crowd.mp4 (H.264 at 60/render-every fps, unless --no-video),
 // summary.json (what is printed at the end), frames.csv (one row per frame: ms, budget, garments per
-// level, updated, visible, predicted error) and summary.png (its plot, by scripts/plot-summary.py),
+// level, updated, visible, predicted error in view) and summary.png (its plot, scripts/plot-summary.py),
 // frame_stats.jsonl with --frame-stats (World::statsJson() per frame), export/frame_NNNNN.obj|glb
 // with --export. Exit code: 0; 2 for a bad command line or scene file; 1 for a failed run; 3 when
 // garment updates failed.
@@ -32,6 +32,7 @@
 #include "ExternalTools.h"
 #include "FrameLog.h"
 #include "FrameRenderer.h"
+#include "GarmentVisibility.h"
 #include "MeshExport.h"
 #include "Plaza.h"
 #include "Progress.h"
@@ -140,7 +141,10 @@ int runCrowd(const RunOptions& o) {
             }
             const cc::FrameStats& stats = world->frameStats();
             summary.addFrame(f, stats);
-            if (cc::Status s = log.value().record(*world, f, t, scene.budgetMs, garments); !s) return fail(s.message());
+            auto inView = crowd::garmentsInView(*world, plaza.value());
+            if (!inView.isOk()) return fail(inView.status().message());
+            if (cc::Status s = log.value().record(*world, f, t, scene.budgetMs, garments, inView.value()); !s)
+                return fail(s.message());
             if (f % o.renderEvery == 0) {
                 if (renderer) {
                     summary.addRenderedFrame();
