@@ -1,32 +1,43 @@
-// crowd: the main job. A plaza of walking, running and standing mannequins wearing capes and
-// skirts, seen by a moving camera; crowdcloth chooses each garment's level, solver and rate under
-// a frame budget. Renders frames headless (OSMesa) to PNG, and to MP4 when ffmpeg is present;
-// writes per-frame stats as JSON; prints a summary.
+// crowd: the main job. A plaza of walking, running and standing mannequins (or imported
+// characters) in capes, skirts, dresses and ponchos, seen by a camera flying from a wide shot into
+// a close-up and back; crowdcloth chooses each garment's level, solver and rate under a frame
+// budget. `cc_crowd --help` lists every option.
 //
-//   cc_crowd [--characters N] [--seconds S] [--out DIR] [--render-every K] [--no-render]
-//            [--budget MS] [--threads T] [--width W] [--height H]
-//            [--asset FILE]... [--clip NAME] [--asset-height M]
-//            --asset dresses imported characters (any skinned file assimp reads; give several to
-//            mix them) instead of the mannequins, in capes and skirts fitted to each; --clip picks
-//            the clip they play (default: each file's first), --asset-height scales them all to
-//            a standing height [m] (default: as authored)
+//   cc_crowd [--scene FILE] [--characters N] [--seconds S] [--budget MS] [--threads T]
+//            [--width W] [--height H] [--supersample 1-4] [--color-by none|lod|solver|error]
+//            [--render-every K] [--no-render] [--no-video] [--frame-stats] [--export obj|glb]
+//            [--asset FILE]... [--clip NAME] [--asset-height M] [--out DIR]
+//   cc_crowd [--scene FILE] [options] --write-scene FILE   writes the scene (default: the built-in
+//            one, samples/crowd/scenes/default.json) and exits; options given override the file's
 //   cc_crowd --scaling   crowd scaling benchmark: 10 -> 1000 characters, with LOD and at full
 //                        resolution, and the 1 -> 2 thread speed-up
-//   cc_crowd --tradeoff  a cape on a walking mannequin at each uniform level against the finest:
-//                        vertices, ms per step, RMS and max distance
+//   cc_crowd --tradeoff  a cape on a walking mannequin at each uniform level against the finest
 //   cc_crowd --batch     256 capes at level 3 stepped one by one and in batches (BAR batch)
-#include <algorithm>
-#include <cmath>
+//
+// Writes into --out (default crowd_out): frames/frame_NNNNN.png (every render-every frame, title
+// strip with the frame's numbers), crowd.mp4 (H.264 at 60/render-every fps, unless --no-video),
+// summary.json (what is printed at the end), frames.csv (one row per frame: ms, budget, garments per
+// level, updated, visible, predicted error in view) and summary.png (its plot, scripts/plot-summary.py),
+// frame_stats.jsonl with --frame-stats (World::statsJson() per frame), export/frame_NNNNN.obj|glb
+// with --export. Exit code: 0; 2 for a bad command line or scene file; 1 for a failed run; 3 when
+// garment updates failed.
+#include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "CommandLine.h"
+#include "ExternalTools.h"
+#include "FrameLog.h"
+#include "FrameRenderer.h"
+#include "GarmentVisibility.h"
+#include "MeshExport.h"
 #include "Plaza.h"
+#include "Progress.h"
+#include "RunSummary.h"
+#include "SceneFile.h"
 #include "Studies.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/import/CharacterIO.h"
@@ -34,199 +45,162 @@
 
 namespace {
 
-using crowd::percentile;
-using crowd::WorldPtr;
+namespace fs = std::filesystem;
+using crowd::RunOptions;
 
-struct Options {
-    int characters = 200;
-    double seconds = 10.0;
-    std::string out = "crowd_out";
-    int renderEvery = 4;
-    bool render = true;
-    double budgetMs = 12.0;
-    int threads = 0;
-    int width = 960, height = 540;
-    bool scaling = false;
-    bool tradeoff = false;
-    bool batch = false;
-    std::vector<std::string> assets;
-    std::string clip;
-    double assetHeight = 0.0;
-};
+int fail(const std::string& message) {
+    std::fprintf(stderr, "\n%s\n", message.c_str());
+    return 1;
+}
 
-bool parse(int argc, char** argv, Options& o) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto next = [&](const char* what) -> const char* {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "%s needs a value\n", what);
-                std::exit(2);
+/// Removes a previous run's numbered files (frame_*.EXT), which ffmpeg would otherwise pick up.
+void removeOldFrames(const fs::path& dir, const std::string& extension) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind("frame_", 0) == 0 && entry.path().extension() == extension) fs::remove(entry.path(), ec);
+    }
+}
+
+std::string numbered(const char* extension, uint32_t n) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%05u.%s", n, extension);
+    return name;
+}
+
+cc::Status addImportedBodies(cc::World& world, const crowd::Scene& scene, crowd::PlazaSettings& settings) {
+    for (const std::string& file : scene.assets) {
+        auto character = cc::importCharacter(file);
+        if (!character.isOk()) return character.status();
+        cc::BodyDesc bd;
+        bd.height = scene.assetHeight;
+        auto body = world.addCharacterBody(character.value(), bd);
+        if (!body.isOk()) return cc::Status::invalidArgument(file + ": " + body.status().message());
+        settings.bodies.push_back(body.value());
+        std::printf("%s: %zu joints, %zu vertices, %zu clips\n", file.c_str(), character.value().skeleton.jointCount(),
+                    character.value().body.vertexCount(), character.value().clips.size());
+    }
+    settings.clip = scene.clip;
+    return cc::Status::ok();
+}
+
+int runCrowd(const RunOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const crowd::Scene& scene = o.scene;
+    cc::WorldDesc desc;
+    desc.maxThreads = uint32_t(o.threads);
+    desc.frameBudgetMs = scene.budgetMs;
+    auto created = cc::World::create(desc);
+    if (!created.isOk()) return fail(created.status().message());
+    crowd::WorldPtr world(created.value());
+    crowd::PlazaSettings settings = scene.plaza;
+    if (cc::Status s = addImportedBodies(*world, scene, settings); !s) return fail(s.message());
+    auto plaza = crowd::Plaza::create(*world, settings);
+    if (!plaza.isOk()) return fail("plaza: " + plaza.status().message());
+
+    const fs::path out(o.out);
+    const fs::path frameDir = out / "frames", exportDir = out / "export";
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec) return fail(out.string() + ": " + ec.message());
+    std::unique_ptr<cc::render::OffscreenRenderer> renderer;
+    if (o.render) {
+        cc::render::RendererOptions ro;
+        ro.supersample = o.supersample;
+        auto r = cc::render::OffscreenRenderer::create(scene.width, scene.height, ro);
+        if (!r.isOk()) return fail("renderer: " + r.status().message() + " (rerun with --no-render)");
+        renderer = std::move(r).value();
+        fs::create_directories(frameDir);
+        removeOldFrames(frameDir, ".png");
+    }
+    const char* exportExtension = o.exportFormat == crowd::ExportFormat::Glb ? "glb" : "obj";
+    if (o.exportFormat != crowd::ExportFormat::None) {
+        fs::create_directories(exportDir);
+        removeOldFrames(exportDir, std::string(".") + exportExtension);
+    }
+
+    const int frames = std::max(1, int(std::lround(scene.seconds * 60.0)));
+    crowd::RunSummary summary(frames);
+    crowd::RunSummary::Outputs outputs;
+    {
+        auto log = crowd::FrameLog::open(out, o.frameStats);
+        if (!log.isOk()) return fail(log.status().message());
+        outputs.framesCsv = log.value().csvPath().string();
+        outputs.frameStats = log.value().jsonlPath().string();
+        crowd::Progress progress(frames);
+        std::vector<cc::GarmentStats> garments(plaza.value().garments().size());
+        uint32_t exported = 0;
+        for (int f = 1; f <= frames; ++f) {
+            const double t = f / 60.0;
+            if (cc::Status s = plaza.value().update(*world, t, scene.width, scene.height); !s) return fail(s.message());
+            if (cc::Status s = world->step(1.0 / 60.0); !s) return fail("step: " + s.message());
+            for (std::size_t i = 0; i < garments.size(); ++i) {
+                auto gs = world->garmentStats(plaza.value().garments()[i]);
+                if (!gs.isOk()) return fail(gs.status().message());
+                garments[i] = gs.value();
             }
-            return argv[++i];
-        };
-        if (a == "--characters") o.characters = std::atoi(next("--characters"));
-        else if (a == "--seconds") o.seconds = std::atof(next("--seconds"));
-        else if (a == "--out") o.out = next("--out");
-        else if (a == "--render-every") o.renderEvery = std::max(1, std::atoi(next("--render-every")));
-        else if (a == "--no-render") o.render = false;
-        else if (a == "--budget") o.budgetMs = std::atof(next("--budget"));
-        else if (a == "--threads") o.threads = std::atoi(next("--threads"));
-        else if (a == "--width") o.width = std::atoi(next("--width"));
-        else if (a == "--height") o.height = std::atoi(next("--height"));
-        else if (a == "--scaling") o.scaling = true;
-        else if (a == "--tradeoff") o.tradeoff = true;
-        else if (a == "--batch") o.batch = true;
-        else if (a == "--asset") o.assets.push_back(next("--asset"));
-        else if (a == "--clip") o.clip = next("--clip");
-        else if (a == "--asset-height") o.assetHeight = std::atof(next("--asset-height"));
-        else {
-            std::fprintf(stderr, "unknown option '%s' (see the comment at the top of samples/crowd/main.cpp)\n", a.c_str());
-            return false;
+            const cc::FrameStats& stats = world->frameStats();
+            summary.addFrame(f, stats);
+            auto inView = crowd::garmentsInView(*world, plaza.value());
+            if (!inView.isOk()) return fail(inView.status().message());
+            if (cc::Status s = log.value().record(*world, f, t, scene.budgetMs, garments, inView.value()); !s)
+                return fail(s.message());
+            if (f % o.renderEvery == 0) {
+                if (renderer) {
+                    summary.addRenderedFrame();
+                    const std::string png = (frameDir / numbered("png", summary.renderedFrames())).string();
+                    if (cc::Status s = crowd::renderFrame(*world, plaza.value(), garments, o.colorBy, desc.pixelTolerance,
+                                                          crowd::titleText(f, t, stats), *renderer, png);
+                        !s)
+                        return fail(s.message());
+                }
+                if (o.exportFormat != crowd::ExportFormat::None) {
+                    const std::string file = (exportDir / numbered(exportExtension, ++exported)).string();
+                    const cc::Status s = o.exportFormat == crowd::ExportFormat::Glb
+                                             ? crowd::exportGlb(*world, plaza.value(), file)
+                                             : crowd::exportObj(*world, plaza.value(), file);
+                    if (!s) return fail(s.message());
+                }
+            }
+            progress.update(f, stats.totalMs);
         }
     }
-    if (o.characters < 1 || o.characters > 100000 || !(o.seconds > 0.0) || o.width < 16 || o.height < 16) {
-        std::fprintf(stderr, "bad option value\n");
-        return false;
+
+    if (renderer) outputs.frames = frameDir.string();
+    if (o.exportFormat != crowd::ExportFormat::None) outputs.exportDir = exportDir.string();
+    if (renderer && o.video && summary.renderedFrames() > 0) {
+        const std::string mp4 = (out / "crowd.mp4").string();
+        if (cc::Status s = crowd::encodeVideo(frameDir.string(), o.renderEvery, mp4); s) outputs.video = mp4;
+        else std::fprintf(stderr, "video skipped: %s\n", s.message().c_str());
     }
-    return true;
-}
+    const std::string plot = (out / "summary.png").string();
+    if (cc::Status s = crowd::plotSummary(outputs.framesCsv, plot); s) outputs.plot = plot;
+    else std::fprintf(stderr, "summary.png skipped: %s\n", s.message().c_str());
 
-void progress(int frame, int frames, double ms) {
-    if (frame % 30 != 0 && frame != frames) return;
-    const int width = 30, filled = frame * width / frames;
-    std::fprintf(stderr, "\r[%.*s%*s] %3d%% frame %d/%d %6.2f ms", filled, "##############################",
-                 width - filled, "", 100 * frame / frames, frame, frames, ms);
-    if (frame == frames) std::fprintf(stderr, "\n");
-}
-
-const float kBodyColour[3] = {0.80f, 0.72f, 0.62f};
-
-cc::Status renderFrame(cc::World& world, const crowd::Plaza& plaza, cc::render::OffscreenRenderer& renderer,
-                       const std::string& path) {
-    const float sky[3] = {0.78f, 0.84f, 0.90f};
-    renderer.beginFrame(plaza.viewProjection(), sky);
-    renderer.drawGround(float(plaza.extent() + 15.0), 2.0f);
-    for (std::size_t i = 0; i < plaza.characters().size(); ++i) {
-        auto body = world.characterMesh(plaza.characters()[i]);
-        if (!body.isOk()) return body.status();
-        const cc::RenderMeshView& b = body.value();
-        renderer.drawMesh(b.positions, b.normals, b.vertexCount, b.indices, b.triangleCount,
-                          cc::render::MeshStyle::body({kBodyColour[0], kBodyColour[1], kBodyColour[2]}));
-        auto garment = world.renderMesh(plaza.garments()[i]);
-        if (!garment.isOk()) return garment.status();
-        const cc::RenderMeshView& g = garment.value();
-        const auto& outside = plaza.garmentColours()[i];
-        const cc::render::Rgb inside{0.6f * outside[0], 0.6f * outside[1], 0.6f * outside[2]};
-        renderer.drawMesh(g.positions, g.normals, g.vertexCount, g.indices, g.triangleCount,
-                          cc::render::MeshStyle::garment({outside[0], outside[1], outside[2]}, inside));
-    }
-    renderer.endFrame();
-    return renderer.writePng(path);
+    const uint32_t threads = world->frameStats().threads;
+    summary.print(o, threads, outputs);
+    const std::string summaryPath = (out / "summary.json").string();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (cc::Status s = summary.write(summaryPath, o, threads, wall, outputs); !s) return fail(s.message());
+    std::printf("summary: %s (%.1f s wall)\n", summaryPath.c_str(), wall);
+    return summary.failedUpdates() == 0 ? 0 : 3;
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
-    Options o;
-    if (!parse(argc, argv, o)) return 2;
-    if (o.scaling) return crowd::runScaling(o.budgetMs, o.threads);
+    RunOptions o;
+    if (int code = crowd::parseCommandLine(argc, argv, o); code >= 0) return code;
+    if (!o.writeScene.empty()) {
+        if (cc::Status s = crowd::writeScene(o.scene, o.writeScene); !s) {
+            std::fprintf(stderr, "%s\n", s.message().c_str());
+            return 1;
+        }
+        std::printf("scene: %s\n", o.writeScene.c_str());
+        return 0;
+    }
+    if (o.scaling) return crowd::runScaling(o.scene.budgetMs, o.threads);
     if (o.tradeoff) return crowd::runTradeoff();
     if (o.batch) return crowd::runBatchBench();
-
-    cc::WorldDesc desc;
-    desc.maxThreads = uint32_t(std::max(o.threads, 0));
-    desc.frameBudgetMs = o.budgetMs;
-    auto created = cc::World::create(desc);
-    if (!created.isOk()) {
-        std::fprintf(stderr, "%s\n", created.status().message().c_str());
-        return 1;
-    }
-    WorldPtr world(created.value());
-    crowd::PlazaSettings ps;
-    ps.characters = o.characters;
-    for (const std::string& file : o.assets) {
-        auto character = cc::importCharacter(file);
-        if (!character.isOk()) {
-            std::fprintf(stderr, "%s\n", character.status().message().c_str());
-            return 1;
-        }
-        cc::BodyDesc bd;
-        bd.height = o.assetHeight;
-        auto body = world->addCharacterBody(character.value(), bd);
-        if (!body.isOk()) {
-            std::fprintf(stderr, "%s: %s\n", file.c_str(), body.status().message().c_str());
-            return 1;
-        }
-        ps.bodies.push_back(body.value());
-        std::printf("%s: %zu joints, %zu vertices, %zu clips\n", file.c_str(), character.value().skeleton.jointCount(),
-                    character.value().body.vertexCount(), character.value().clips.size());
-    }
-    ps.clip = o.clip;
-    auto plaza = crowd::Plaza::create(*world, ps);
-    if (!plaza.isOk()) {
-        std::fprintf(stderr, "plaza: %s\n", plaza.status().message().c_str());
-        return 1;
-    }
-    std::unique_ptr<cc::render::OffscreenRenderer> renderer;
-    const std::filesystem::path out(o.out);
-    std::filesystem::create_directories(out / "frames");
-    if (o.render) {
-        auto r = cc::render::OffscreenRenderer::create(o.width, o.height);
-        if (!r.isOk()) {
-            std::fprintf(stderr, "renderer: %s (rerun with --no-render)\n", r.status().message().c_str());
-            return 1;
-        }
-        renderer = std::move(r).value();
-    }
-
-    const int frames = int(std::lround(o.seconds * 60.0));
-    std::ofstream statsFile(out / "crowd_stats.json");
-    statsFile << "[\n";
-    std::vector<double> frameMs;
-    uint32_t failed = 0, rendered = 0;
-    std::vector<double> perLevel(16, 0.0);
-    for (int f = 1; f <= frames; ++f) {
-        if (cc::Status s = plaza.value().update(*world, f / 60.0, o.width, o.height); !s) {
-            std::fprintf(stderr, "\n%s\n", s.message().c_str());
-            return 1;
-        }
-        if (cc::Status s = world->step(1.0 / 60.0); !s) {
-            std::fprintf(stderr, "\nstep: %s\n", s.message().c_str());
-            return 1;
-        }
-        const cc::FrameStats& fs = world->frameStats();
-        if (f > 60) frameMs.push_back(fs.totalMs);
-        failed += fs.failed;
-        for (int l = 0; l < 16; ++l) perLevel[l] += fs.garmentsPerLevel[l];
-        statsFile << (f > 1 ? ",\n" : "") << world->statsJson();
-        if (renderer && f % o.renderEvery == 0) {
-            char name[64];
-            std::snprintf(name, sizeof(name), "frame_%05d.png", ++rendered);
-            if (cc::Status s = renderFrame(*world, plaza.value(), *renderer, (out / "frames" / name).string()); !s) {
-                std::fprintf(stderr, "\n%s\n", s.message().c_str());
-                return 1;
-            }
-        }
-        progress(f, frames, fs.totalMs);
-    }
-    statsFile << "\n]\n";
-
-    std::printf("crowd: %d characters, %d frames at 60 Hz, cloth budget %.1f ms, %u threads\n", o.characters, frames,
-                o.budgetMs, world->frameStats().threads);
-    std::printf("cloth ms per frame (after 1 s warm-up): median %.2f, p99 %.2f, max %.2f\n", percentile(frameMs, 0.5),
-                percentile(frameMs, 0.99), percentile(frameMs, 1.0));
-    std::printf("garments per level (mean over frames):");
-    for (int l = 0; l < 8; ++l) std::printf(" L%d %.1f", l, perLevel[l] / frames);
-    std::printf("\nfailed garment updates: %u\nstats: %s\n", failed, (out / "crowd_stats.json").string().c_str());
-    if (renderer) {
-        std::printf("frames: %u PNG in %s\n", rendered, (out / "frames").string().c_str());
-        if (std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
-            const std::string cmd = "ffmpeg -loglevel error -y -framerate " + std::to_string(60 / o.renderEvery) +
-                                    " -i '" + (out / "frames" / "frame_%05d.png").string() +
-                                    "' -vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -pix_fmt yuv420p '" +
-                                    (out / "crowd.mp4").string() + "'";
-            if (std::system(cmd.c_str()) == 0) std::printf("video: %s\n", (out / "crowd.mp4").string().c_str());
-        }
-    }
-    return failed == 0 ? 0 : 3;
+    return runCrowd(o);
 }
