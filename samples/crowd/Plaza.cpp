@@ -108,6 +108,20 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         }
     }
 
+    // The close-up's character wears a full half-circle cape, wide over the shoulders and long:
+    // the garment whose folds and swing the camera comes to see.
+    cc::AssetId heroCape{};
+    if (!imported && shares[0] > 0.0) {
+        cc::ClothAssetDesc d;
+        d.cut = cc::GarmentCut::Circle;
+        d.width = 0.7;
+        d.length = 1.0;
+        d.velocityDamping = settings.velocityDamping;
+        auto id = world.addClothAsset(d);
+        if (!id.isOk()) return id.status();
+        heroCape = id.value();
+    }
+
     for (int i = 0; i < settings.characters; ++i) {
         const double roll = unit(rng);
         const bool runs = roll < settings.runnerFraction;
@@ -143,7 +157,8 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         const int variant = int(unit(rng) * 2.0) % 2;
         cc::GarmentDesc gd;
         gd.inertiaScale = settings.inertiaScale;
-        auto garment = world.addGarment(variants[kind][variant], character.value(), gd);
+        const bool hero = i == 0 && kind == 0 && !imported && shares[0] > 0.0;
+        auto garment = world.addGarment(hero ? heroCape : variants[kind][variant], character.value(), gd);
         if (!garment.isOk()) return garment.status();
         const auto* palette = kind == 0 ? kCapeColours : kind == 1 ? kSkirtColours : kind == 2 ? kDressColours
                                                                                              : kPonchoColours;
