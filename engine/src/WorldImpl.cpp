@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "crowdcloth/core/Hash.h"
-#include "crowdcloth/core/ParallelFor.h"
 #include "UpdateStep.h"
 
 #ifdef CC_HAVE_OPENMP
@@ -115,7 +115,7 @@ int WorldImpl::threadCount() const {
 #ifdef CC_HAVE_OPENMP
     return mDesc.maxThreads > 0 ? int(mDesc.maxThreads) : omp_get_max_threads();
 #else
-    return 1;
+    return mDesc.maxThreads > 0 ? int(mDesc.maxThreads) : int(std::max(1u, std::thread::hardware_concurrency()));
 #endif
 }
 
@@ -329,7 +329,9 @@ void WorldImpl::runTasks(std::size_t count, Task& task) {
         mDesc.taskRunner(mDesc.taskRunnerUserData, uint32_t(count),
                          [](void* context, uint32_t index) { (*static_cast<Task*>(context))(index); }, &task);
     } else {
-        parallelForEach(int64_t(count), threadCount(), [&](int64_t i) { task(uint32_t(i)); });
+        if (!mPool) mPool = std::make_unique<TaskPool>(unsigned(threadCount()));  // on first need
+        mPool->run(uint32_t(count), [](void* context, uint32_t index) { (*static_cast<Task*>(context))(index); },
+                   &task);
     }
 }
 

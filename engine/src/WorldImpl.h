@@ -9,6 +9,7 @@
 #include "CookedAsset.h"
 #include "GarmentInstance.h"
 #include "HandlePool.h"
+#include "TaskPool.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/collision/CollisionDevice.h"
 #include "crowdcloth/lod/CostModel.h"
@@ -114,6 +115,7 @@ private:
     std::vector<lod::GarmentRequest> mRequests;
     std::vector<lod::GarmentSchedule> mSchedules;
     lod::SchedulerWorkspace mSchedulerWork;
+    std::unique_ptr<TaskPool> mPool;  ///< the frame's workers when the host hands in no task runner
     std::vector<std::size_t> mWork;          ///< items updated or seen this frame
     std::vector<std::size_t> mUpdates;       ///< items updated this frame
     std::vector<Batch> mBatches;             ///< this frame's solver batches (storage kept)
