@@ -13,3 +13,15 @@ function(cc_target_options target)
         target_compile_definitions(${target} PRIVATE CC_ENABLE_ASSERTS=1)
     endif()
 endfunction()
+
+# An internal static library of the module: its headers are seen only inside this build (never
+# installed), and its archive is named crowdcloth_<part> so an install does not add a libcc_*.a
+# to a host's lib folder.
+function(cc_internal_library target part)
+    add_library(${target} STATIC ${ARGN})
+    add_library(crowdcloth::${part} ALIAS ${target})
+    set_target_properties(${target} PROPERTIES OUTPUT_NAME crowdcloth_${part})
+    target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+    cc_target_options(${target})
+    set_property(GLOBAL APPEND PROPERTY CC_INTERNAL_LIBRARIES ${target})
+endfunction()

@@ -15,8 +15,9 @@ struct cc_world {
 
 namespace cc::detail {
 
-cc_status toCStatus(StatusCode code);
+// Exported for the import library only (crowdcloth_import.h), which is a library of its own.
+CC_API cc_status toCStatus(StatusCode code);
 /// Records the status as the world's last error (or clears it) and returns its C code.
-cc_status reportToC(const cc_world* world, const Status& status);
+CC_API cc_status reportToC(const cc_world* world, const Status& status);
 
 } // namespace cc::detail

@@ -3,8 +3,9 @@
 #include <cstdint>
 #include <string>
 
+#include "crowdcloth/Export.h"
 #include "crowdcloth/Ids.h"
-#include "crowdcloth/core/Status.h"
+#include "crowdcloth/Status.h"
 
 namespace cc {
 
@@ -21,7 +22,7 @@ using GarmentId = cc_garment_id;
 using TaskRunner = void (*)(void* userData, uint32_t count, void (*task)(void* context, uint32_t index), void* context);
 
 /// World-wide choices, fixed at creation.
-struct WorldDesc {
+struct CC_API WorldDesc {
     uint32_t maxThreads = 0;          ///< [-] threads that step garments; 0 = all OpenMP offers
     double frameBudgetMs = 12.0;      ///< [ms] wall time per frame the cloth may use; > 0
     uint32_t budgetThreads = 0;       ///< [-] threads the budget is spread over (CPU budget =
@@ -78,7 +79,7 @@ enum class GarmentCut : uint32_t {
 /// character with that body. Sizes left at 0 are fitted to the body: measured from its skeleton
 /// and geometry (or the landmarks a host hands in, see setBodyLandmarks). Sizes given are checked
 /// against the body: a skirt whose waist is smaller than the wearer's gives an error.
-struct ClothAssetDesc {
+struct CC_API ClothAssetDesc {
     GarmentKind kind = GarmentKind::Cape;
     GarmentCut cut = GarmentCut::ALine;
     double width = 0.0;              ///< [m] where it hangs from the body: cape across the shoulders
@@ -237,7 +238,7 @@ struct FrameStats {
 ///   cc::GarmentId g = world->addGarment(cape, walker, {}).value();
 ///   for (int frame = 0; frame < 600; ++frame) { world->step(1.0 / 60); draw(world->renderMesh(g).value()); }
 ///   cc::World::destroy(world);
-class World {
+class CC_API World {
 public:
     static Result<World*> create(const WorldDesc& desc);
     static void destroy(World* world);

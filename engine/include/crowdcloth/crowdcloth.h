@@ -13,7 +13,9 @@
 
 #include <stdint.h>
 
+#include "crowdcloth/Export.h"
 #include "crowdcloth/Ids.h"
+#include "crowdcloth/Version.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -144,54 +146,54 @@ typedef struct cc_frame_stats {
     uint32_t threads;
 } cc_frame_stats;
 
-uint32_t cc_get_version(void);
+CC_API uint32_t cc_get_version(void);
 
-void cc_world_desc_init(cc_world_desc* desc);
-void cc_cloth_asset_desc_init(cc_cloth_asset_desc* desc);
-void cc_mannequin_desc_init(cc_mannequin_desc* desc);
-void cc_character_desc_init(cc_character_desc* desc);
-void cc_garment_desc_init(cc_garment_desc* desc);
-void cc_camera_desc_init(cc_camera_desc* desc);
-void cc_body_desc_init(cc_body_desc* desc);
-void cc_body_landmarks_init(cc_body_landmarks* landmarks);
+CC_API void cc_world_desc_init(cc_world_desc* desc);
+CC_API void cc_cloth_asset_desc_init(cc_cloth_asset_desc* desc);
+CC_API void cc_mannequin_desc_init(cc_mannequin_desc* desc);
+CC_API void cc_character_desc_init(cc_character_desc* desc);
+CC_API void cc_garment_desc_init(cc_garment_desc* desc);
+CC_API void cc_camera_desc_init(cc_camera_desc* desc);
+CC_API void cc_body_desc_init(cc_body_desc* desc);
+CC_API void cc_body_landmarks_init(cc_body_landmarks* landmarks);
 
-cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
-void cc_world_destroy(cc_world* world);
+CC_API cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
+CC_API void cc_world_destroy(cc_world* world);
 /* Message of the last call on `world` that failed ("" if none); valid until the next call. */
-const char* cc_world_last_error(const cc_world* world);
+CC_API const char* cc_world_last_error(const cc_world* world);
 
-cc_status cc_world_add_cloth_asset(cc_world* world, const cc_cloth_asset_desc* desc, cc_asset_id* out_asset);
-cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* desc, cc_body_id* out_body);
-cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
+CC_API cc_status cc_world_add_cloth_asset(cc_world* world, const cc_cloth_asset_desc* desc, cc_asset_id* out_asset);
+CC_API cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* desc, cc_body_id* out_body);
+CC_API cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
                                     uint32_t stride_bytes, const uint32_t* triangles, uint32_t triangle_count,
                                     cc_body_id* out_body);
 /* Imported characters: crowdcloth/crowdcloth_import.h (the optional import library) adds bodies
  * from files. Host-skinned bodies without a humanoid shape need the host's landmarks for garments;
  * landmarks apply to characters added afterwards. */
-cc_status cc_world_set_body_landmarks(cc_world* world, cc_body_id body, const cc_body_landmarks* landmarks);
-cc_status cc_world_get_body_landmarks(const cc_world* world, cc_body_id body, cc_body_landmarks* out_landmarks);
-cc_status cc_world_get_body_clip_count(const cc_world* world, cc_body_id body, uint32_t* out_count);
+CC_API cc_status cc_world_set_body_landmarks(cc_world* world, cc_body_id body, const cc_body_landmarks* landmarks);
+CC_API cc_status cc_world_get_body_landmarks(const cc_world* world, cc_body_id body, cc_body_landmarks* out_landmarks);
+CC_API cc_status cc_world_get_body_clip_count(const cc_world* world, cc_body_id body, uint32_t* out_count);
 /* Name of clip `index` of a body; valid as long as the world. */
-cc_status cc_world_get_body_clip_name(const cc_world* world, cc_body_id body, uint32_t index, const char** out_name);
-cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
-cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
-cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
-cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_character_id character, const float* positions,
+CC_API cc_status cc_world_get_body_clip_name(const cc_world* world, cc_body_id body, uint32_t index, const char** out_name);
+CC_API cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
+CC_API cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
+CC_API cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
+CC_API cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_character_id character, const float* positions,
                                                   uint32_t vertex_count, uint32_t stride_bytes);
-cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
+CC_API cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
                                const cc_garment_desc* desc, cc_garment_id* out_garment);
-cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
-cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
-cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
-cc_status cc_world_step(cc_world* world, double dt);
-cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
-cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
+CC_API cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
+CC_API cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
+CC_API cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
+CC_API cc_status cc_world_step(cc_world* world, double dt);
+CC_API cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
+CC_API cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
 /* The design as cut for the garment's body (width, length, hem_width filled in). */
-cc_status cc_world_get_garment_fit(const cc_world* world, cc_garment_id garment, cc_cloth_asset_desc* out_desc);
-cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats* out_stats);
+CC_API cc_status cc_world_get_garment_fit(const cc_world* world, cc_garment_id garment, cc_cloth_asset_desc* out_desc);
+CC_API cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats* out_stats);
 /* JSON text of the last frame's stats; valid until the next call on the world. */
-cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
-cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
+CC_API cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
+CC_API cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
 
 #ifdef __cplusplus
 }
