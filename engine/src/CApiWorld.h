@@ -20,4 +20,9 @@ CC_API cc_status toCStatus(StatusCode code);
 /// Records the status as the world's last error (or clears it) and returns its C code.
 CC_API cc_status reportToC(const cc_world* world, const Status& status);
 
+/// Why a desc's version stamp is refused ("" when it is this library's layout), naming the desc
+/// and its init function. The stamp is the first field of every layout, so it can be read
+/// whatever headers the host was built with.
+CC_API std::string stampError(const char* name, const char* init, uint32_t stamp);
+
 } // namespace cc::detail

@@ -28,6 +28,15 @@ TEST(CApi, DescDefaultsAreTheCppDefaults) {
     EXPECT_EQ(w.fixed_cost_model != 0, cw.fixedCostModel);
     EXPECT_EQ(w.max_update_interval, cw.maxUpdateInterval);
     for (int k = 0; k < 3; ++k) EXPECT_EQ(w.gravity[k], cw.gravity[k]);
+    EXPECT_EQ(w.budget_threads, cw.budgetThreads);
+    EXPECT_EQ(w.task_runner, cw.taskRunner);
+    EXPECT_EQ(w.task_runner_user_data, cw.taskRunnerUserData);
+    EXPECT_EQ(w.substeps, cw.substeps);
+    EXPECT_EQ(w.solver_iterations, cw.solverIterations);
+    EXPECT_EQ(w.batch_size, cw.batchSize);
+    EXPECT_EQ(w.strain_limit, cw.strainLimit);
+    EXPECT_EQ(w.self_collision != 0, cw.selfCollision);
+    EXPECT_EQ(w.spend_slack != 0, cw.spendSlack);
 
     cc_cloth_asset_desc a;
     cc_cloth_asset_desc_init(&a);

@@ -1,6 +1,7 @@
 #include "crowdcloth/crowdcloth_import.h"
 
 #include <new>
+#include <string>
 
 #include "CApiWorld.h"
 #include "crowdcloth/import/CharacterIO.h"
@@ -31,8 +32,14 @@ cc_status cc_world_add_body_from_file(cc_world* w, const char* path, const cc_im
     };
     if (!path) return fail("path is null");
     if (!out) return fail("out_body is null");
-    if (d && d->version != CC_DESC_VERSION) return fail("import settings were not initialised with cc_import_settings_init()");
-    if (bd && bd->version != CC_DESC_VERSION) return fail("body desc was not initialised with cc_body_desc_init()");
+    if (const std::string refused = d ? cc::detail::stampError("import settings", "cc_import_settings_init", d->version)
+                                      : std::string();
+        !refused.empty())
+        return fail(refused.c_str());
+    if (const std::string refused = bd ? cc::detail::stampError("body desc", "cc_body_desc_init", bd->version)
+                                       : std::string();
+        !refused.empty())
+        return fail(refused.c_str());
     try {
         cc::ImportSettings settings;
         if (d) {

@@ -16,10 +16,9 @@ using BodyId = cc_body_id;
 using CharacterId = cc_character_id;
 using GarmentId = cc_garment_id;
 
-/// A host's job system: runs task(context, i) for every i in [0, count), in any order and on any
-/// threads, and returns when all have finished. Tasks are independent (each writes only its own
-/// garment), so the result does not depend on how they are run.
-using TaskRunner = void (*)(void* userData, uint32_t count, void (*task)(void* context, uint32_t index), void* context);
+/// A host's job system (cc_task_runner in crowdcloth/Ids.h): runs task(context, i) for every i in
+/// [0, count), in any order and on any threads, and returns when all have finished.
+using TaskRunner = cc_task_runner;
 
 /// World-wide choices, fixed at creation.
 struct CC_API WorldDesc {

@@ -30,20 +30,33 @@ typedef enum cc_status {
     CC_OUT_OF_MEMORY = 5,
 } cc_status;
 
-/* Stamped into every *_desc by its init function; create/add calls reject unstamped structs (and
- * structs of an older layout). */
-#define CC_DESC_VERSION 0x43430002u
+/* Stamped into every *_desc by its init function: 'CC' in the high half, the layout in the low
+ * half. create/add calls reject unstamped structs and structs of another layout (older or newer
+ * headers than the library), naming the desc and both layouts. */
+#define CC_DESC_MAGIC 0x43430000u
+#define CC_DESC_VERSION (CC_DESC_MAGIC | 3u)
 
 typedef struct cc_world cc_world;
 
 typedef struct cc_world_desc {
     uint32_t version;
-    uint32_t max_threads;          /* 0 = all OpenMP offers */
+    uint32_t max_threads;          /* threads that step garments; 0 = all OpenMP offers */
     double frame_budget_ms;        /* [ms] wall time per frame for cloth; > 0 */
+    uint32_t budget_threads;       /* threads the budget is spread over; 0 = those stepping garments.
+                                      Set it (with fixed_cost_model) for results that do not depend
+                                      on the thread count */
     double pixel_tolerance;        /* [px] > 0 */
     int32_t fixed_cost_model;      /* 1 = deterministic cost predictions (tests, replays) */
     double gravity[3];             /* [m/s^2] */
+    cc_task_runner task_runner;    /* the host's job system for the garment tasks; NULL = OpenMP */
+    void* task_runner_user_data;
     uint32_t max_update_interval;  /* [frames] power of two in [1, 64] */
+    uint32_t substeps;             /* solver substeps per update at the finest level; [1, 64] */
+    uint32_t solver_iterations;    /* CG iterations per substep at the finest level; [1, 100] */
+    uint32_t batch_size;           /* garments stepped together per solver call; [1, 8] */
+    double strain_limit;           /* [-] Provot edge strain limit; 0 = off; [0, 10] */
+    int32_t self_collision;        /* 1 = the scheduler may turn self-collision on */
+    int32_t spend_slack;           /* 1 = budget left after the tolerance refines further */
 } cc_world_desc;
 
 typedef enum cc_garment_kind { CC_GARMENT_CAPE = 0, CC_GARMENT_SKIRT = 1, CC_GARMENT_DRESS = 2, CC_GARMENT_PONCHO = 3 } cc_garment_kind;
@@ -127,6 +140,7 @@ typedef struct cc_garment_stats {
     uint32_t vertex_count;
     uint32_t solver;          /* 0 substep Newton, 1 substep local/global */
     uint32_t substeps;
+    uint32_t iterations;      /* solver iterations over the update */
     uint32_t update_interval; /* 0 = asleep */
     int32_t updated, level_switched;
     uint32_t collision;       /* 0 none, 1 proxies, 2 mesh, 3 mesh + continuous */
@@ -142,6 +156,7 @@ typedef struct cc_frame_stats {
     double schedule_ms, simulate_ms, total_ms;  /* [ms] wall */
     double predicted_cpu_ms, measured_cpu_ms, budget_cpu_ms;
     uint32_t garments, updated, asleep, visible, failed, level_switches;
+    uint32_t batches;         /* solver calls that stepped the updated garments together */
     uint32_t garments_per_level[16];
     uint32_t threads;
 } cc_frame_stats;
@@ -158,6 +173,8 @@ CC_API void cc_body_desc_init(cc_body_desc* desc);
 CC_API void cc_body_landmarks_init(cc_body_landmarks* landmarks);
 
 CC_API cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
+/* Message of the last cc_world_create() on this thread that failed ("" if none). */
+CC_API const char* cc_world_create_error(void);
 CC_API void cc_world_destroy(cc_world* world);
 /* Message of the last call on `world` that failed ("" if none); valid until the next call. */
 CC_API const char* cc_world_last_error(const cc_world* world);
