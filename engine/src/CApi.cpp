@@ -326,6 +326,37 @@ cc_status cc_world_step(cc_world* w, double dt) {
     return guarded(w, [&] { return report(w, w->world->step(dt)); });
 }
 
+cc_status cc_world_begin_step(cc_world* w, double dt) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->beginStep(dt)); });
+}
+
+uint32_t cc_world_step_task_count(const cc_world* w) { return w && w->world ? w->world->stepTaskCount() : 0; }
+
+cc_status cc_world_run_step_task(cc_world* w, uint32_t index) {
+    CC_CHECK_WORLD(w);
+    // Concurrent with the phase's other tasks: the status only, never the shared last error.
+    try {
+        return cc::detail::toCStatus(w->world->runStepTask(index).code());
+    } catch (const std::bad_alloc&) {
+        return CC_OUT_OF_MEMORY;
+    }
+}
+
+int32_t cc_world_next_step_phase(cc_world* w) {
+    if (!w || !w->world) return 0;
+    try {
+        return w->world->nextStepPhase() ? 1 : 0;
+    } catch (const std::bad_alloc&) {
+        return 0;  // cc_world_end_step() then reports the open phase
+    }
+}
+
+cc_status cc_world_end_step(cc_world* w) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->endStep()); });
+}
+
 cc_status cc_world_get_render_mesh(const cc_world* w, cc_garment_id g, cc_render_mesh* out) {
     CC_CHECK_WORLD(w);
     CC_CHECK_OUT(w, out, "out_mesh");

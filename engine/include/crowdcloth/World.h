@@ -225,7 +225,8 @@ struct FrameStats {
 
 /// The crowd: characters, the garments they wear, cameras and the frame budget.
 ///
-/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP. With
+/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP (or the
+/// desc's taskRunner; or the host runs the tasks itself, see beginStep). With
 /// the fixed cost model and budgetThreads set, the result is bit for bit the same for any thread
 /// count; with learned costs the levels follow the measured times, as a budget must.
 ///
@@ -283,6 +284,29 @@ public:
     /// parallel, publishing. A garment whose step fails keeps its last good state and is reported
     /// in its stats; the frame goes on.
     Status step(double dt);
+
+    /// The same step in pieces, for a host that runs its own job system (NvCloth's
+    /// begin / simulate chunks / end): the result is bit for bit that of step(dt), whoever runs
+    /// the tasks, on any threads, in any order.
+    ///
+    ///   world->beginStep(dt);                    // serial: bodies' clocks, the schedule
+    ///   do {
+    ///       uint32_t n = world->stepTaskCount(); // this phase's tasks
+    ///       for each i in [0, n), on any thread: world->runStepTask(i);
+    ///       wait until all n have returned;      // a phase's tasks read what the last phase wrote
+    ///   } while (world->nextStepPhase());        // serial: forms the next phase's tasks
+    ///   world->endStep();                        // serial: totals and stats
+    ///
+    /// There are two phases today (per garment: level switch, body and contacts; per solver batch:
+    /// the simulation); hosts loop until nextStepPhase() returns false. Between beginStep() and
+    /// endStep() call only these four (runStepTask concurrently, the others from one thread).
+    Status beginStep(double dt);
+    uint32_t stepTaskCount() const;
+    /// Runs task `index` of the current phase; fails only for an index not below stepTaskCount().
+    Status runStepTask(uint32_t index);
+    /// After every task of the phase has returned: opens the next phase (true) or ends (false).
+    bool nextStepPhase();
+    Status endStep();
 
     /// The garment's render mesh in world space, valid until the next step() or removal. A
     /// garment not updated this frame is carried to its character's current place here, on

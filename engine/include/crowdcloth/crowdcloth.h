@@ -203,6 +203,19 @@ CC_API cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment)
 CC_API cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
 CC_API cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
 CC_API cc_status cc_world_step(cc_world* world, double dt);
+/* The same step in phases of tasks for the host's job system (World::beginStep in World.h), bit for
+ * bit cc_world_step():
+ *   cc_world_begin_step(world, dt);
+ *   do { run cc_world_run_step_task(world, i) for i < cc_world_step_task_count(), any threads, and
+ *        wait for all } while (cc_world_next_step_phase(world));
+ *   cc_world_end_step(world);
+ * cc_world_run_step_task may run concurrently: it records no last error (its status says all). */
+CC_API cc_status cc_world_begin_step(cc_world* world, double dt);
+CC_API uint32_t cc_world_step_task_count(const cc_world* world);
+CC_API cc_status cc_world_run_step_task(cc_world* world, uint32_t index);
+/* 1 when another phase of tasks is open, 0 when the tasks are done (then cc_world_end_step). */
+CC_API int32_t cc_world_next_step_phase(cc_world* world);
+CC_API cc_status cc_world_end_step(cc_world* world);
 CC_API cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
 CC_API cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
 /* The design as cut for the garment's body (width, length, hem_width filled in). */
