@@ -286,8 +286,9 @@ public:
     Status step(double dt);
 
     /// The same step in pieces, for a host that runs its own job system (NvCloth's
-    /// begin / simulate chunks / end): the result is bit for bit that of step(dt), whoever runs
-    /// the tasks, on any threads, in any order.
+    /// begin / simulate chunks / end): the tasks are the ones step(dt) runs, so with the fixed
+    /// cost model the result is bit for bit step()'s whoever runs them, on any threads, in any
+    /// order (learned costs follow the measured times, here as in step()).
     ///
     ///   world->beginStep(dt);                    // serial: bodies' clocks, the schedule
     ///   do {
