@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test through CTest; then the fast tests again
-# under AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh).
+# Installs dependencies, builds, and runs every test through CTest; then builds the consumer
+# projects against an install (scripts/check-consumers.sh); then the fast tests again under
+# AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -8,4 +9,5 @@ bash scripts/build.sh
 # Serial: tests use OpenMP inside, and two 2-thread processes on 2 cores make spinning
 # OpenMP barriers crawl.
 ctest --test-dir build --output-on-failure --timeout 900
+bash scripts/check-consumers.sh
 bash scripts/run-sanitizers.sh

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "CApiFields.h"
 #include "CApiWorld.h"
 #include "crowdcloth/Version.h"
 #include "crowdcloth/World.h"
@@ -26,9 +27,20 @@ cc_status reportToC(const cc_world* w, const Status& s) {
     return toCStatus(s.code());
 }
 
+std::string stampError(const char* name, const char* init, uint32_t stamp) {
+    if (stamp == CC_DESC_VERSION) return {};
+    if ((stamp & 0xffff0000u) != CC_DESC_MAGIC) return std::string(name) + " was not initialised with " + init + "()";
+    const uint32_t layout = stamp & 0xffffu, ours = CC_DESC_VERSION & 0xffffu;
+    return std::string(name) + " has layout " + std::to_string(layout) + " from " +
+           (layout > ours ? "newer" : "older") + " headers than this library (layout " + std::to_string(ours) +
+           "): build the host against the headers of the library it runs with";
+}
+
 } // namespace cc::detail
 
 namespace {
+
+using cc::detail::stampError;
 
 cc_status report(const cc_world* w, const cc::Status& s) { return cc::detail::reportToC(w, s); }
 
@@ -49,123 +61,88 @@ cc_status guarded(const cc_world* w, F&& f) {
     }
 }
 
+/// cc_world_create() has no world to keep its message in.
+thread_local std::string gCreateError;
+
 #define CC_CHECK_WORLD(w)                                                                                    \
     if (!(w) || !(w)->world) return CC_INVALID_ARGUMENT
-#define CC_CHECK_DESC(w, d, name)                                                                            \
+#define CC_CHECK_DESC(w, d, name, init)                                                                      \
     if (!(d)) return fail(w, CC_INVALID_ARGUMENT, name " is null");                                        \
-    if ((d)->version != CC_DESC_VERSION)                                                                   \
-    return fail(w, CC_INVALID_ARGUMENT, name " was not initialised with its _desc_init()")
+    if (const std::string refused = stampError(name, init, (d)->version); !refused.empty())                \
+    return fail(w, CC_INVALID_ARGUMENT, refused.c_str())
 #define CC_CHECK_OUT(w, p, name)                                                                             \
     if (!(p)) return fail(w, CC_INVALID_ARGUMENT, name " is null")
 
 } // namespace
 
-/// Each C desc field next to its C++ field: one list serves both directions, so the two APIs
-/// cannot drift apart field by field.
-#define CC_WORLD_FIELDS(X)                                                                           \
-    X(max_threads, maxThreads) X(frame_budget_ms, frameBudgetMs) X(pixel_tolerance, pixelTolerance)  \
-    X(max_update_interval, maxUpdateInterval)
-#define CC_ASSET_FIELDS(X)                                                                           \
-    X(width, width) X(length, length) X(cell_size, cellSize) X(level_count, levelCount)              \
-    X(render_level, renderLevel) X(areal_density, arealDensity) X(stretch_stiffness, stretchStiffness) \
-    X(shear_stiffness, shearStiffness) X(bend_stiffness, bendStiffness) X(damping, damping)          \
-    X(thickness, thickness) X(friction, friction) X(fold_radius, foldRadius)                        \
-    X(relative_length, relativeLength) X(hem_width, hemWidth) X(ease, ease)
-#define CC_MANNEQUIN_FIELDS(X)                                                                       \
-    X(height, height) X(shoulder_width, shoulderWidth) X(hip_width, hipWidth)                        \
-    X(waist_width, waistWidth) X(limb_girth, limbGirth)
-#define CC_CHARACTER_FIELDS(X)                                                                       \
-    X(body, body) X(clip, clip) X(clip_index, clipIndex) X(clip_time, clipTime) X(clip_phase, clipPhase) \
-    X(playback_rate, playbackRate) X(yaw, yaw)
-#define CC_LANDMARK_FIELDS(X)                                                                        \
-    X(neck_y, neckY) X(shoulder_y, shoulderY) X(chest_y, chestY) X(waist_y, waistY) X(hip_y, hipY)   \
-    X(neck_girth, neckGirth) X(chest_girth, chestGirth) X(waist_girth, waistGirth)                    \
-    X(hip_girth, hipGirth) X(shoulder_width, shoulderWidth)
-#define CC_TO_C(c, cpp) d->c = x.cpp;
-#define CC_TO_CPP(c, cpp) x.cpp = d->c;
+CC_CHECK_FIELDS(world, CC_WORLD_FIELDS, cc_world_desc, cc::WorldDesc, 1)
+CC_CHECK_FIELDS(asset, CC_ASSET_FIELDS, cc_cloth_asset_desc, cc::ClothAssetDesc, 1)
+CC_CHECK_FIELDS(mannequin, CC_MANNEQUIN_FIELDS, cc_mannequin_desc, cc::MannequinDesc, 1)
+CC_CHECK_FIELDS(body, CC_BODY_FIELDS, cc_body_desc, cc::BodyDesc, 1)
+CC_CHECK_FIELDS(landmarks, CC_LANDMARK_FIELDS, cc_body_landmarks, cc::BodyLandmarkDesc, 1)
+CC_CHECK_FIELDS(character, CC_CHARACTER_FIELDS, cc_character_desc, cc::CharacterDesc, 1)
+CC_CHECK_FIELDS(garment, CC_GARMENT_FIELDS, cc_garment_desc, cc::GarmentDesc, 1)
+CC_CHECK_FIELDS(camera, CC_CAMERA_FIELDS, cc_camera_desc, cc::CameraDesc, 1)
+CC_CHECK_FIELDS(render_mesh, CC_RENDER_MESH_FIELDS, cc_render_mesh, cc::RenderMeshView, 0)
+CC_CHECK_FIELDS(garment_stats, CC_GARMENT_STATS_FIELDS, cc_garment_stats, cc::GarmentStats, 0)
+CC_CHECK_FIELDS(frame_stats, CC_FRAME_STATS_FIELDS, cc_frame_stats, cc::FrameStats, 0)
+
+#define CC_TO_C(c, cpp) cc::detail::copyField(d->c, x.cpp);
+#define CC_TO_CPP(c, cpp) cc::detail::copyField(x.cpp, d->c);
 
 extern "C" {
 
 uint32_t cc_get_version(void) { return cc::getVersion(); }
 
-void cc_world_desc_init(cc_world_desc* d) {
-    if (!d) return;
-    const cc::WorldDesc x;
-    d->version = CC_DESC_VERSION;
-    CC_WORLD_FIELDS(CC_TO_C)
-    d->fixed_cost_model = x.fixedCostModel;
-    for (int k = 0; k < 3; ++k) d->gravity[k] = x.gravity[k];
-}
-
-void cc_cloth_asset_desc_init(cc_cloth_asset_desc* d) {
-    if (!d) return;
-    const cc::ClothAssetDesc x;
-    d->version = CC_DESC_VERSION;
-    d->kind = cc_garment_kind(x.kind);
-    d->cut = cc_garment_cut(x.cut);
-    CC_ASSET_FIELDS(CC_TO_C)
-}
-
-void cc_mannequin_desc_init(cc_mannequin_desc* d) {
-    if (!d) return;
-    const cc::MannequinDesc x;
-    d->version = CC_DESC_VERSION;
-    CC_MANNEQUIN_FIELDS(CC_TO_C)
-}
-
-void cc_character_desc_init(cc_character_desc* d) {
-    if (!d) return;
-    const cc::CharacterDesc x;
-    d->version = CC_DESC_VERSION;
-    CC_CHARACTER_FIELDS(CC_TO_C)
-    for (int k = 0; k < 3; ++k) d->position[k] = x.position[k];
-}
-
-void cc_garment_desc_init(cc_garment_desc* d) {
-    if (!d) return;
-    d->version = CC_DESC_VERSION;
-    d->importance = cc::GarmentDesc{}.importance;
-    d->force_level = cc::GarmentDesc{}.forceLevel;
-}
-
-void cc_body_desc_init(cc_body_desc* d) {
-    if (!d) return;
-    d->version = CC_DESC_VERSION;
-    d->height = cc::BodyDesc{}.height;
-}
-
-void cc_body_landmarks_init(cc_body_landmarks* d) {
-    if (!d) return;
-    const cc::BodyLandmarkDesc x;
-    d->version = CC_DESC_VERSION;
-    for (int k = 0; k < 3; ++k) d->forward[k] = x.forward[k];
-    CC_LANDMARK_FIELDS(CC_TO_C)
-}
-
-void cc_camera_desc_init(cc_camera_desc* d) {
-    if (!d) return;
-    const cc::CameraDesc x;
-    d->version = CC_DESC_VERSION;
-    for (int k = 0; k < 16; ++k) d->view_projection[k] = x.viewProjection[k];
-    d->viewport_width = x.viewportWidth;
-    d->viewport_height = x.viewportHeight;
-}
+// Every init function stamps the desc and copies the C++ desc's defaults through its field list.
+#define CC_DESC_INIT(function, CStruct, CppStruct, LIST)                                             \
+    void function(CStruct* d) {                                                                      \
+        if (!d) return;                                                                              \
+        const CppStruct x{};                                                                         \
+        d->version = CC_DESC_VERSION;                                                                \
+        LIST(CC_TO_C)                                                                                \
+    }
+CC_DESC_INIT(cc_world_desc_init, cc_world_desc, cc::WorldDesc, CC_WORLD_FIELDS)
+CC_DESC_INIT(cc_cloth_asset_desc_init, cc_cloth_asset_desc, cc::ClothAssetDesc, CC_ASSET_FIELDS)
+CC_DESC_INIT(cc_mannequin_desc_init, cc_mannequin_desc, cc::MannequinDesc, CC_MANNEQUIN_FIELDS)
+CC_DESC_INIT(cc_character_desc_init, cc_character_desc, cc::CharacterDesc, CC_CHARACTER_FIELDS)
+CC_DESC_INIT(cc_garment_desc_init, cc_garment_desc, cc::GarmentDesc, CC_GARMENT_FIELDS)
+CC_DESC_INIT(cc_body_desc_init, cc_body_desc, cc::BodyDesc, CC_BODY_FIELDS)
+CC_DESC_INIT(cc_body_landmarks_init, cc_body_landmarks, cc::BodyLandmarkDesc, CC_LANDMARK_FIELDS)
+CC_DESC_INIT(cc_camera_desc_init, cc_camera_desc, cc::CameraDesc, CC_CAMERA_FIELDS)
 
 cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
-    if (!out_world) return CC_INVALID_ARGUMENT;
+    gCreateError.clear();
+    if (!out_world) {
+        gCreateError = "out_world is null";
+        return CC_INVALID_ARGUMENT;
+    }
     *out_world = nullptr;
-    if (!d || d->version != CC_DESC_VERSION) return CC_INVALID_ARGUMENT;
-    return guarded(nullptr, [&] {
+    if (!d) {
+        gCreateError = "world desc is null";
+        return CC_INVALID_ARGUMENT;
+    }
+    if (std::string refused = stampError("world desc", "cc_world_desc_init", d->version); !refused.empty()) {
+        gCreateError = std::move(refused);
+        return CC_INVALID_ARGUMENT;
+    }
+    try {
         cc::WorldDesc x;
         CC_WORLD_FIELDS(CC_TO_CPP)
-        x.fixedCostModel = d->fixed_cost_model != 0;
-        for (int k = 0; k < 3; ++k) x.gravity[k] = d->gravity[k];
         auto world = cc::World::create(x);
-        if (!world.isOk()) return cc::detail::toCStatus(world.status().code());
+        if (!world.isOk()) {
+            gCreateError = world.status().message();
+            return cc::detail::toCStatus(world.status().code());
+        }
         *out_world = new cc_world{world.value(), {}, {}};
         return CC_OK;
-    });
+    } catch (const std::bad_alloc&) {
+        gCreateError = "out of memory";
+        return CC_OUT_OF_MEMORY;
+    }
 }
+
+const char* cc_world_create_error(void) { return gCreateError.c_str(); }
 
 void cc_world_destroy(cc_world* w) {
     if (!w) return;
@@ -177,12 +154,10 @@ const char* cc_world_last_error(const cc_world* w) { return w ? w->lastError.c_s
 
 cc_status cc_world_add_cloth_asset(cc_world* w, const cc_cloth_asset_desc* d, cc_asset_id* out) {
     CC_CHECK_WORLD(w);
-    CC_CHECK_DESC(w, d, "cloth asset desc");
+    CC_CHECK_DESC(w, d, "cloth asset desc", "cc_cloth_asset_desc_init");
     CC_CHECK_OUT(w, out, "out_asset");
     return guarded(w, [&] {
         cc::ClothAssetDesc x;
-        x.kind = cc::GarmentKind(d->kind);
-        x.cut = cc::GarmentCut(d->cut);
         CC_ASSET_FIELDS(CC_TO_CPP)
         auto id = w->world->addClothAsset(x);
         if (id.isOk()) *out = id.value();
@@ -192,7 +167,7 @@ cc_status cc_world_add_cloth_asset(cc_world* w, const cc_cloth_asset_desc* d, cc
 
 cc_status cc_world_add_mannequin_body(cc_world* w, const cc_mannequin_desc* d, cc_body_id* out) {
     CC_CHECK_WORLD(w);
-    CC_CHECK_DESC(w, d, "mannequin desc");
+    CC_CHECK_DESC(w, d, "mannequin desc", "cc_mannequin_desc_init");
     CC_CHECK_OUT(w, out, "out_body");
     return guarded(w, [&] {
         cc::MannequinDesc x;
@@ -217,10 +192,9 @@ cc_status cc_world_add_skinned_body(cc_world* w, const float* bind_positions, ui
 
 cc_status cc_world_set_body_landmarks(cc_world* w, cc_body_id body, const cc_body_landmarks* d) {
     CC_CHECK_WORLD(w);
-    CC_CHECK_DESC(w, d, "body landmarks");
+    CC_CHECK_DESC(w, d, "body landmarks", "cc_body_landmarks_init");
     return guarded(w, [&] {
         cc::BodyLandmarkDesc x;
-        for (int k = 0; k < 3; ++k) x.forward[k] = d->forward[k];
         CC_LANDMARK_FIELDS(CC_TO_CPP)
         return report(w, w->world->setBodyLandmarks(body, x));
     });
@@ -234,7 +208,6 @@ cc_status cc_world_get_body_landmarks(const cc_world* w, cc_body_id body, cc_bod
         if (l.isOk()) {
             const cc::BodyLandmarkDesc& x = l.value();
             d->version = CC_DESC_VERSION;
-            for (int k = 0; k < 3; ++k) d->forward[k] = x.forward[k];
             CC_LANDMARK_FIELDS(CC_TO_C)
         }
         return report(w, l.status());
@@ -269,8 +242,6 @@ cc_status cc_world_get_garment_fit(const cc_world* w, cc_garment_id g, cc_cloth_
         if (fit.isOk()) {
             const cc::ClothAssetDesc& x = fit.value();
             d->version = CC_DESC_VERSION;
-            d->kind = cc_garment_kind(x.kind);
-            d->cut = cc_garment_cut(x.cut);
             CC_ASSET_FIELDS(CC_TO_C)
         }
         return report(w, fit.status());
@@ -279,12 +250,11 @@ cc_status cc_world_get_garment_fit(const cc_world* w, cc_garment_id g, cc_cloth_
 
 cc_status cc_world_add_character(cc_world* w, const cc_character_desc* d, cc_character_id* out) {
     CC_CHECK_WORLD(w);
-    CC_CHECK_DESC(w, d, "character desc");
+    CC_CHECK_DESC(w, d, "character desc", "cc_character_desc_init");
     CC_CHECK_OUT(w, out, "out_character");
     return guarded(w, [&] {
         cc::CharacterDesc x;
         CC_CHARACTER_FIELDS(CC_TO_CPP)
-        for (int k = 0; k < 3; ++k) x.position[k] = d->position[k];
         auto id = w->world->addCharacter(x);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());
@@ -312,12 +282,11 @@ cc_status cc_world_set_character_skinned_vertices(cc_world* w, cc_character_id c
 cc_status cc_world_add_garment(cc_world* w, cc_asset_id asset, cc_character_id c, const cc_garment_desc* d,
                                cc_garment_id* out) {
     CC_CHECK_WORLD(w);
-    CC_CHECK_DESC(w, d, "garment desc");
+    CC_CHECK_DESC(w, d, "garment desc", "cc_garment_desc_init");
     CC_CHECK_OUT(w, out, "out_garment");
     return guarded(w, [&] {
         cc::GarmentDesc x;
-        x.importance = d->importance;
-        x.forceLevel = d->force_level;
+        CC_GARMENT_FIELDS(CC_TO_CPP)
         auto id = w->world->addGarment(asset, c, x);
         if (id.isOk()) *out = id.value();
         return report(w, id.status());
@@ -333,15 +302,17 @@ cc_status cc_world_set_cameras(cc_world* w, const cc_camera_desc* cameras, uint3
     CC_CHECK_WORLD(w);
     if (count > 0 && !cameras) return fail(w, CC_INVALID_ARGUMENT, "cameras is null");
     return guarded(w, [&] {
-        std::vector<cc::CameraDesc> x(count);
+        std::vector<cc::CameraDesc> cpp(count);
         for (uint32_t c = 0; c < count; ++c) {
-            if (cameras[c].version != CC_DESC_VERSION)
-                return fail(w, CC_INVALID_ARGUMENT, "camera desc was not initialised with cc_camera_desc_init()");
-            for (int k = 0; k < 16; ++k) x[c].viewProjection[k] = cameras[c].view_projection[k];
-            x[c].viewportWidth = cameras[c].viewport_width;
-            x[c].viewportHeight = cameras[c].viewport_height;
+            const std::string name = "camera desc " + std::to_string(c);
+            if (std::string refused = stampError(name.c_str(), "cc_camera_desc_init", cameras[c].version);
+                !refused.empty())
+                return fail(w, CC_INVALID_ARGUMENT, refused.c_str());
+            const cc_camera_desc* d = &cameras[c];
+            cc::CameraDesc& x = cpp[c];
+            CC_CAMERA_FIELDS(CC_TO_CPP)
         }
-        return report(w, w->world->setCameras(x.data(), count));
+        return report(w, w->world->setCameras(cpp.data(), count));
     });
 }
 
@@ -355,14 +326,46 @@ cc_status cc_world_step(cc_world* w, double dt) {
     return guarded(w, [&] { return report(w, w->world->step(dt)); });
 }
 
+cc_status cc_world_begin_step(cc_world* w, double dt) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->beginStep(dt)); });
+}
+
+uint32_t cc_world_step_task_count(const cc_world* w) { return w && w->world ? w->world->stepTaskCount() : 0; }
+
+cc_status cc_world_run_step_task(cc_world* w, uint32_t index) {
+    CC_CHECK_WORLD(w);
+    // Concurrent with the phase's other tasks: the status only, never the shared last error.
+    try {
+        return cc::detail::toCStatus(w->world->runStepTask(index).code());
+    } catch (const std::bad_alloc&) {
+        return CC_OUT_OF_MEMORY;
+    }
+}
+
+int32_t cc_world_next_step_phase(cc_world* w) {
+    if (!w || !w->world) return 0;
+    try {
+        return w->world->nextStepPhase() ? 1 : 0;
+    } catch (const std::bad_alloc&) {
+        return 0;  // cc_world_end_step() then reports the open phase
+    }
+}
+
+cc_status cc_world_end_step(cc_world* w) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->endStep()); });
+}
+
 cc_status cc_world_get_render_mesh(const cc_world* w, cc_garment_id g, cc_render_mesh* out) {
     CC_CHECK_WORLD(w);
     CC_CHECK_OUT(w, out, "out_mesh");
     return guarded(w, [&] {
         auto view = w->world->renderMesh(g);
         if (view.isOk()) {
-            const cc::RenderMeshView& v = view.value();
-            *out = cc_render_mesh{v.positions, v.normals, v.vertexCount, v.indices, v.triangleCount};
+            const cc::RenderMeshView& x = view.value();
+            cc_render_mesh* d = out;
+            CC_RENDER_MESH_FIELDS(CC_TO_C)
         }
         return report(w, view.status());
     });
@@ -374,11 +377,9 @@ cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garm
     return guarded(w, [&] {
         auto stats = w->world->garmentStats(g);
         if (stats.isOk()) {
-            const cc::GarmentStats& s = stats.value();
-            *out = cc_garment_stats{s.level, s.vertexCount, uint32_t(s.solver), s.substeps, s.updateInterval,
-                                    s.updated, s.levelSwitched, uint32_t(s.collision), s.selfCollision,
-                                    s.contacts, s.failSafes, s.failed, s.screenRadiusPx, s.predictedErrorPx,
-                                    s.predictedMs, s.measuredMs, s.collisionMs, s.maxStrain, s.maxAttachmentError};
+            const cc::GarmentStats& x = stats.value();
+            cc_garment_stats* d = out;
+            CC_GARMENT_STATS_FIELDS(CC_TO_C)
         }
         return report(w, stats.status());
     });
@@ -387,11 +388,9 @@ cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garm
 cc_status cc_world_get_frame_stats(const cc_world* w, cc_frame_stats* out) {
     CC_CHECK_WORLD(w);
     CC_CHECK_OUT(w, out, "out_stats");
-    const cc::FrameStats& f = w->world->frameStats();
-    *out = cc_frame_stats{f.frame, f.scheduleMs, f.simulateMs, f.totalMs,
-                          f.predictedCpuMs, f.measuredCpuMs, f.budgetCpuMs, f.garments, f.updated, f.asleep,
-                          f.visible, f.failed, f.levelSwitches, {}, f.threads};
-    for (int l = 0; l < 16; ++l) out->garments_per_level[l] = f.garmentsPerLevel[l];
+    const cc::FrameStats& x = w->world->frameStats();
+    cc_frame_stats* d = out;
+    CC_FRAME_STATS_FIELDS(CC_TO_C)
     return CC_OK;
 }
 

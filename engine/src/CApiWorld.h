@@ -15,8 +15,14 @@ struct cc_world {
 
 namespace cc::detail {
 
-cc_status toCStatus(StatusCode code);
+// Exported for the import library only (crowdcloth_import.h), which is a library of its own.
+CC_API cc_status toCStatus(StatusCode code);
 /// Records the status as the world's last error (or clears it) and returns its C code.
-cc_status reportToC(const cc_world* world, const Status& status);
+CC_API cc_status reportToC(const cc_world* world, const Status& status);
+
+/// Why a desc's version stamp is refused ("" when it is this library's layout), naming the desc
+/// and its init function. The stamp is the first field of every layout, so it can be read
+/// whatever headers the host was built with.
+CC_API std::string stampError(const char* name, const char* init, uint32_t stamp);
 
 } // namespace cc::detail

@@ -62,6 +62,11 @@ Status World::removeGarment(GarmentId id) { return impl(this).removeGarment(id);
 Status World::setCameras(const CameraDesc* cameras, uint32_t count) { return impl(this).setCameras(cameras, count); }
 Status World::setFrameBudget(double milliseconds) { return impl(this).setFrameBudget(milliseconds); }
 Status World::step(double dt) { return impl(this).step(dt); }
+Status World::beginStep(double dt) { return impl(this).beginStep(dt); }
+uint32_t World::stepTaskCount() const { return impl(this).stepTaskCount(); }
+Status World::runStepTask(uint32_t index) { return impl(this).runStepTask(index); }
+bool World::nextStepPhase() { return impl(this).nextStepPhase(); }
+Status World::endStep() { return impl(this).endStep(); }
 Result<RenderMeshView> World::renderMesh(GarmentId id) const { return impl(this).renderMesh(id); }
 Result<RenderMeshView> World::characterMesh(CharacterId id) { return impl(this).characterMesh(id); }
 Result<GarmentStats> World::garmentStats(GarmentId id) const { return impl(this).garmentStats(id); }

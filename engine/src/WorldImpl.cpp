@@ -413,8 +413,19 @@ void WorldImpl::simulateBatch(Batch& batch) {
 }
 
 Status WorldImpl::step(double dt) {
+    if (Status s = beginStep(dt); !s) return s;
+    do {
+        auto task = [&](uint32_t index) { (void)runStepTask(index); };
+        runTasks(stepTaskCount(), task);
+    } while (nextStepPhase());
+    return endStep();
+}
+
+Status WorldImpl::beginStep(double dt) {
+    if (mStepPhase != StepPhase::Idle)
+        return Status::error(StatusCode::InvalidOperation, "step: the previous step is still open (endStep() not called)");
     if (!(std::isfinite(dt) && dt > 0.0 && dt <= 0.1)) return Status::invalidArgument("step: dt must be in (0, 0.1] s");
-    const auto frameStart = Clock::now();
+    mFrameStart = Clock::now();
     FrameStats& fs = mFrameStats;
     fs = FrameStats{fs.frame + 1};
     fs.threads = uint32_t(threadCount());
@@ -473,14 +484,41 @@ Status WorldImpl::step(double dt) {
             mUpdates.push_back(i);
         }
     }
+    mStepPhase = StepPhase::Prepare;
+    mPhaseStart = Clock::now();
+    return Status::ok();
+}
 
-    // 2. Bodies and contacts, in parallel over the updating garments: the first garment of a
-    //    character poses (and skins and refits) its body once; each then switches level and
-    //    gathers its attachment targets and contact planes.
-    phase = Clock::now();
-    auto prepare = [&](uint32_t k) { prepareGarment(mItems[mUpdates[k]]); };
-    runTasks(mUpdates.size(), prepare);
+uint32_t WorldImpl::stepTaskCount() const {
+    switch (mStepPhase) {
+    case StepPhase::Prepare: return uint32_t(mUpdates.size());
+    case StepPhase::Simulate: return uint32_t(mBatchCount);
+    default: return 0;
+    }
+}
 
+Status WorldImpl::runStepTask(uint32_t index) {
+    if (index >= stepTaskCount())
+        return Status::invalidArgument("runStepTask: index " + std::to_string(index) + " is not below stepTaskCount() = " +
+                                       std::to_string(stepTaskCount()));
+    if (mStepPhase == StepPhase::Prepare) {
+        // 2. Bodies and contacts, in parallel over the updating garments: the first garment of a
+        //    character poses (and skins and refits) its body once; each then switches level and
+        //    gathers its attachment targets and contact planes.
+        prepareGarment(mItems[mUpdates[index]]);
+    } else {
+        // 4. Simulate, in parallel over batches (see nextStepPhase).
+        simulateBatch(mBatches[index]);
+    }
+    return Status::ok();
+}
+
+bool WorldImpl::nextStepPhase() {
+    if (mStepPhase != StepPhase::Prepare) {
+        if (mStepPhase == StepPhase::Simulate) mStepPhase = StepPhase::Finish;
+        return false;
+    }
+    FrameStats& fs = mFrameStats;
     // 3. Batches: garments of one asset, level, substep size and settings step together, in id
     //    order, at most kMaxSubstepLanes at a time (a garment's result does not depend on its
     //    batch). Factors are built here, serially, on first need.
@@ -536,18 +574,28 @@ Status WorldImpl::step(double dt) {
     }
     fs.batches = uint32_t(mBatchCount);
 
-    // 4. Simulate, in parallel over batches. Render meshes are built by renderMesh() when the host
-    //    asks (most garments of a large crowd are not drawn every frame; those that are can be
-    //    asked for from several threads).
-    auto simulate = [&](uint32_t k) { simulateBatch(mBatches[k]); };
-    runTasks(mBatchCount, simulate);
+    // 4. Simulate, in parallel over batches (runStepTask). Render meshes are built by renderMesh()
+    //    when the host asks (most garments of a large crowd are not drawn every frame; those that
+    //    are can be asked for from several threads).
+    mStepPhase = StepPhase::Simulate;
+    return true;
+}
+
+Status WorldImpl::endStep() {
+    if (mStepPhase != StepPhase::Finish)
+        return Status::error(StatusCode::InvalidOperation,
+                             mStepPhase == StepPhase::Idle ? "endStep: no step begun (beginStep() first)"
+                                                           : "endStep: a phase's tasks are still to run (nextStepPhase() "
+                                                             "returns false after the last)");
+    mStepPhase = StepPhase::Idle;
+    FrameStats& fs = mFrameStats;
     // A garment whose update failed keeps its state; its render mesh still follows the body.
     for (std::size_t i : mUpdates) {
         GarmentInstance& g = *mItems[i].garment;
         if (!g.stats.failed) continue;
         g.lastUpdateTime = mTime;
     }
-    fs.simulateMs = msSince(phase);
+    fs.simulateMs = msSince(mPhaseStart);
 
     // 5. Totals and learning, in item order so the sums are the same for any thread count.
     for (const FrameItem& item : mItems) {
@@ -585,7 +633,7 @@ Status WorldImpl::step(double dt) {
     if (fs.frame % kFactorSweepFrames == 0)
         for (auto it = mFactors.begin(); it != mFactors.end();)
             it = fs.frame - it->second.lastUsedFrame > kFactorSweepFrames ? mFactors.erase(it) : std::next(it);
-    fs.totalMs = msSince(frameStart);
+    fs.totalMs = msSince(mFrameStart);
     // With learned costs the budget is closed-loop: what the garment costs do not show (the
     // schedule, the serial parts, threads waiting on each other or on a busy machine) is found by
     // comparing the frame's wall time with the budget, and the CPU budget the scheduler hands out

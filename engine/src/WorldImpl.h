@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -39,6 +40,12 @@ public:
     Status setCameras(const CameraDesc* cameras, uint32_t count);
     Status setFrameBudget(double milliseconds);
     Status step(double dt);
+    // The step in phases of concurrent tasks, for a host's job system (World.h); step() runs them.
+    Status beginStep(double dt);
+    uint32_t stepTaskCount() const;
+    Status runStepTask(uint32_t index);
+    bool nextStepPhase();
+    Status endStep();
     Result<RenderMeshView> renderMesh(GarmentId id) const;
     Result<GarmentStats> garmentStats(GarmentId id) const;
     Result<RenderMeshView> characterMesh(CharacterId id);
@@ -107,6 +114,11 @@ private:
     FrameStats mFrameStats;
     double mTime = 0.0;
     double mBudgetScale = 1.0;  ///< closed-loop share of the nominal CPU budget (learned costs)
+    /// Where an open step stands: Prepare and Simulate are phases of concurrent tasks (bodies and
+    /// contacts per garment, then solver batches); the batches are formed between them, serially.
+    enum class StepPhase { Idle, Prepare, Simulate, Finish };
+    StepPhase mStepPhase = StepPhase::Idle;
+    std::chrono::steady_clock::time_point mFrameStart, mPhaseStart;
 
     // Per-frame scratch, kept to avoid allocating in the frame loop.
     std::vector<FrameItem> mItems;

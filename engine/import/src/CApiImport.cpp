@@ -1,25 +1,30 @@
 #include "crowdcloth/crowdcloth_import.h"
 
 #include <new>
+#include <string>
 
+#include "CApiFields.h"
 #include "CApiWorld.h"
 #include "crowdcloth/import/CharacterIO.h"
+
+/// cc_import_settings next to cc::ImportSettings (see engine/src/CApiFields.h).
+#define CC_IMPORT_SETTINGS_FIELDS(X)                                                               \
+    X(join_identical_vertices, joinIdenticalVertices)                                              \
+    X(weight_sum_tolerance, weightSumTolerance) X(unit_scale, unitScale) X(up_axis, upAxis)        \
+    X(ticks_per_second, ticksPerSecond) X(isolate, isolate) X(timeout_seconds, timeoutSeconds)     \
+    X(max_file_bytes, maxFileBytes) X(max_memory_bytes, maxMemoryBytes)
+CC_CHECK_FIELDS(import_settings, CC_IMPORT_SETTINGS_FIELDS, cc_import_settings, cc::ImportSettings, 1)
+#define CC_TO_C(c, cpp) cc::detail::copyField(d->c, x.cpp);
+#define CC_TO_CPP(c, cpp) cc::detail::copyField(x.cpp, d->c);
+#define CC_BODY_TO_CPP(c, cpp) cc::detail::copyField(desc.cpp, bd->c);
 
 extern "C" {
 
 void cc_import_settings_init(cc_import_settings* d) {
     if (!d) return;
-    const cc::ImportSettings x;
+    const cc::ImportSettings x{};
     d->version = CC_DESC_VERSION;
-    d->join_identical_vertices = x.joinIdenticalVertices;
-    d->weight_sum_tolerance = x.weightSumTolerance;
-    d->unit_scale = x.unitScale;
-    d->up_axis = cc_up_axis(x.upAxis);
-    d->ticks_per_second = x.ticksPerSecond;
-    d->isolate = x.isolate;
-    d->timeout_seconds = x.timeoutSeconds;
-    d->max_file_bytes = x.maxFileBytes;
-    d->max_memory_bytes = x.maxMemoryBytes;
+    CC_IMPORT_SETTINGS_FIELDS(CC_TO_C)
 }
 
 cc_status cc_world_add_body_from_file(cc_world* w, const char* path, const cc_import_settings* d, const cc_body_desc* bd,
@@ -31,25 +36,24 @@ cc_status cc_world_add_body_from_file(cc_world* w, const char* path, const cc_im
     };
     if (!path) return fail("path is null");
     if (!out) return fail("out_body is null");
-    if (d && d->version != CC_DESC_VERSION) return fail("import settings were not initialised with cc_import_settings_init()");
-    if (bd && bd->version != CC_DESC_VERSION) return fail("body desc was not initialised with cc_body_desc_init()");
+    if (const std::string refused = d ? cc::detail::stampError("import settings", "cc_import_settings_init", d->version)
+                                      : std::string();
+        !refused.empty())
+        return fail(refused.c_str());
+    if (const std::string refused = bd ? cc::detail::stampError("body desc", "cc_body_desc_init", bd->version)
+                                       : std::string();
+        !refused.empty())
+        return fail(refused.c_str());
     try {
         cc::ImportSettings settings;
         if (d) {
-            settings.joinIdenticalVertices = d->join_identical_vertices != 0;
-            settings.weightSumTolerance = d->weight_sum_tolerance;
-            settings.unitScale = d->unit_scale;
-            settings.upAxis = cc::ImportUpAxis(d->up_axis);
-            settings.ticksPerSecond = d->ticks_per_second;
-            settings.isolate = d->isolate != 0;
-            settings.timeoutSeconds = d->timeout_seconds;
-            settings.maxFileBytes = std::size_t(d->max_file_bytes);
-            settings.maxMemoryBytes = std::size_t(d->max_memory_bytes);
+            cc::ImportSettings& x = settings;
+            CC_IMPORT_SETTINGS_FIELDS(CC_TO_CPP)
         }
         auto character = cc::importCharacter(path, settings);
         if (!character.isOk()) return cc::detail::reportToC(w, character.status());
         cc::BodyDesc desc;
-        if (bd) desc.height = bd->height;
+        if (bd) CC_BODY_FIELDS(CC_BODY_TO_CPP)
         auto body = w->world->addCharacterBody(character.value(), desc);
         if (body.isOk()) *out = body.value();
         return cc::detail::reportToC(w, body.status());

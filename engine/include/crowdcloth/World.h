@@ -3,8 +3,9 @@
 #include <cstdint>
 #include <string>
 
+#include "crowdcloth/Export.h"
 #include "crowdcloth/Ids.h"
-#include "crowdcloth/core/Status.h"
+#include "crowdcloth/Status.h"
 
 namespace cc {
 
@@ -15,13 +16,12 @@ using BodyId = cc_body_id;
 using CharacterId = cc_character_id;
 using GarmentId = cc_garment_id;
 
-/// A host's job system: runs task(context, i) for every i in [0, count), in any order and on any
-/// threads, and returns when all have finished. Tasks are independent (each writes only its own
-/// garment), so the result does not depend on how they are run.
-using TaskRunner = void (*)(void* userData, uint32_t count, void (*task)(void* context, uint32_t index), void* context);
+/// A host's job system (cc_task_runner in crowdcloth/Ids.h): runs task(context, i) for every i in
+/// [0, count), in any order and on any threads, and returns when all have finished.
+using TaskRunner = cc_task_runner;
 
 /// World-wide choices, fixed at creation.
-struct WorldDesc {
+struct CC_API WorldDesc {
     uint32_t maxThreads = 0;          ///< [-] threads that step garments; 0 = all OpenMP offers
     double frameBudgetMs = 12.0;      ///< [ms] wall time per frame the cloth may use; > 0
     uint32_t budgetThreads = 0;       ///< [-] threads the budget is spread over (CPU budget =
@@ -78,7 +78,7 @@ enum class GarmentCut : uint32_t {
 /// character with that body. Sizes left at 0 are fitted to the body: measured from its skeleton
 /// and geometry (or the landmarks a host hands in, see setBodyLandmarks). Sizes given are checked
 /// against the body: a skirt whose waist is smaller than the wearer's gives an error.
-struct ClothAssetDesc {
+struct CC_API ClothAssetDesc {
     GarmentKind kind = GarmentKind::Cape;
     GarmentCut cut = GarmentCut::ALine;
     double width = 0.0;              ///< [m] where it hangs from the body: cape across the shoulders
@@ -232,7 +232,8 @@ struct FrameStats {
 
 /// The crowd: characters, the garments they wear, cameras and the frame budget.
 ///
-/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP. With
+/// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP (or the
+/// desc's taskRunner; or the host runs the tasks itself, see beginStep). With
 /// the fixed cost model and budgetThreads set, the result is bit for bit the same for any thread
 /// count; with learned costs the levels follow the measured times, as a budget must.
 ///
@@ -244,7 +245,7 @@ struct FrameStats {
 ///   cc::GarmentId g = world->addGarment(cape, walker, {}).value();
 ///   for (int frame = 0; frame < 600; ++frame) { world->step(1.0 / 60); draw(world->renderMesh(g).value()); }
 ///   cc::World::destroy(world);
-class World {
+class CC_API World {
 public:
     static Result<World*> create(const WorldDesc& desc);
     static void destroy(World* world);
@@ -293,6 +294,30 @@ public:
     /// parallel, publishing. A garment whose step fails keeps its last good state and is reported
     /// in its stats; the frame goes on.
     Status step(double dt);
+
+    /// The same step in pieces, for a host that runs its own job system (NvCloth's
+    /// begin / simulate chunks / end): the tasks are the ones step(dt) runs, so with the fixed
+    /// cost model the result is bit for bit step()'s whoever runs them, on any threads, in any
+    /// order (learned costs follow the measured times, here as in step()).
+    ///
+    ///   world->beginStep(dt);                    // serial: bodies' clocks, the schedule
+    ///   do {
+    ///       uint32_t n = world->stepTaskCount(); // this phase's tasks
+    ///       for each i in [0, n), on any thread: world->runStepTask(i);
+    ///       wait until all n have returned;      // a phase's tasks read what the last phase wrote
+    ///   } while (world->nextStepPhase());        // serial: forms the next phase's tasks
+    ///   world->endStep();                        // serial: totals and stats
+    ///
+    /// There are two phases today (per garment: level switch, body and contacts; per solver batch:
+    /// the simulation); hosts loop until nextStepPhase() returns false. Between beginStep() and
+    /// endStep() call only these four (runStepTask concurrently, the others from one thread).
+    Status beginStep(double dt);
+    uint32_t stepTaskCount() const;
+    /// Runs task `index` of the current phase; fails only for an index not below stepTaskCount().
+    Status runStepTask(uint32_t index);
+    /// After every task of the phase has returned: opens the next phase (true) or ends (false).
+    bool nextStepPhase();
+    Status endStep();
 
     /// The garment's render mesh in world space, valid until the next step() or removal. A
     /// garment not updated this frame is carried to its character's current place here, on

@@ -13,7 +13,9 @@
 
 #include <stdint.h>
 
+#include "crowdcloth/Export.h"
 #include "crowdcloth/Ids.h"
+#include "crowdcloth/Version.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -28,20 +30,33 @@ typedef enum cc_status {
     CC_OUT_OF_MEMORY = 5,
 } cc_status;
 
-/* Stamped into every *_desc by its init function; create/add calls reject unstamped structs (and
- * structs of an older layout). */
-#define CC_DESC_VERSION 0x43430002u
+/* Stamped into every *_desc by its init function: 'CC' in the high half, the layout in the low
+ * half. create/add calls reject unstamped structs and structs of another layout (older or newer
+ * headers than the library), naming the desc and both layouts. */
+#define CC_DESC_MAGIC 0x43430000u
+#define CC_DESC_VERSION (CC_DESC_MAGIC | 4u)
 
 typedef struct cc_world cc_world;
 
 typedef struct cc_world_desc {
     uint32_t version;
-    uint32_t max_threads;          /* 0 = all OpenMP offers */
+    uint32_t max_threads;          /* threads that step garments; 0 = all OpenMP offers */
     double frame_budget_ms;        /* [ms] wall time per frame for cloth; > 0 */
+    uint32_t budget_threads;       /* threads the budget is spread over; 0 = those stepping garments.
+                                      Set it (with fixed_cost_model) for results that do not depend
+                                      on the thread count */
     double pixel_tolerance;        /* [px] > 0 */
     int32_t fixed_cost_model;      /* 1 = deterministic cost predictions (tests, replays) */
     double gravity[3];             /* [m/s^2] */
+    cc_task_runner task_runner;    /* the host's job system for the garment tasks; NULL = OpenMP */
+    void* task_runner_user_data;
     uint32_t max_update_interval;  /* [frames] power of two in [1, 64] */
+    uint32_t substeps;             /* solver substeps per update at the finest level; [1, 64] */
+    uint32_t solver_iterations;    /* CG iterations per substep at the finest level; [1, 100] */
+    uint32_t batch_size;           /* garments stepped together per solver call; [1, 8] */
+    double strain_limit;           /* [-] Provot edge strain limit; 0 = off; [0, 10] */
+    int32_t self_collision;        /* 1 = the scheduler may turn self-collision on */
+    int32_t spend_slack;           /* 1 = budget left after the tolerance refines further */
 } cc_world_desc;
 
 typedef enum cc_garment_kind { CC_GARMENT_CAPE = 0, CC_GARMENT_SKIRT = 1, CC_GARMENT_DRESS = 2, CC_GARMENT_PONCHO = 3 } cc_garment_kind;
@@ -65,6 +80,7 @@ typedef struct cc_cloth_asset_desc {
     double relative_length;            /* [body heights] used when length is 0; 0 = the kind's */
     double hem_width;                  /* [m] 0 = the cut's */
     double ease;                       /* [m] girth added to the body's */
+    double velocity_damping;           /* [1/s] decay of the cloth's velocity relative to its character */
 } cc_cloth_asset_desc;
 
 /* How an imported character becomes a body. */
@@ -104,6 +120,7 @@ typedef struct cc_garment_desc {
     uint32_t version;
     double importance;       /* [-] > 0 */
     int32_t force_level;     /* uniform level to simulate every frame; -1 = scheduled */
+    double inertia_scale;    /* [-] how much of the character's motion the cloth feels; [0, 2] */
 } cc_garment_desc;
 
 typedef struct cc_camera_desc {
@@ -125,6 +142,7 @@ typedef struct cc_garment_stats {
     uint32_t vertex_count;
     uint32_t solver;          /* 0 substep Newton, 1 substep local/global */
     uint32_t substeps;
+    uint32_t iterations;      /* solver iterations over the update */
     uint32_t update_interval; /* 0 = asleep */
     int32_t updated, level_switched;
     uint32_t collision;       /* 0 none, 1 proxies, 2 mesh, 3 mesh + continuous */
@@ -140,58 +158,74 @@ typedef struct cc_frame_stats {
     double schedule_ms, simulate_ms, total_ms;  /* [ms] wall */
     double predicted_cpu_ms, measured_cpu_ms, budget_cpu_ms;
     uint32_t garments, updated, asleep, visible, failed, level_switches;
+    uint32_t batches;         /* solver calls that stepped the updated garments together */
     uint32_t garments_per_level[16];
     uint32_t threads;
 } cc_frame_stats;
 
-uint32_t cc_get_version(void);
+CC_API uint32_t cc_get_version(void);
 
-void cc_world_desc_init(cc_world_desc* desc);
-void cc_cloth_asset_desc_init(cc_cloth_asset_desc* desc);
-void cc_mannequin_desc_init(cc_mannequin_desc* desc);
-void cc_character_desc_init(cc_character_desc* desc);
-void cc_garment_desc_init(cc_garment_desc* desc);
-void cc_camera_desc_init(cc_camera_desc* desc);
-void cc_body_desc_init(cc_body_desc* desc);
-void cc_body_landmarks_init(cc_body_landmarks* landmarks);
+CC_API void cc_world_desc_init(cc_world_desc* desc);
+CC_API void cc_cloth_asset_desc_init(cc_cloth_asset_desc* desc);
+CC_API void cc_mannequin_desc_init(cc_mannequin_desc* desc);
+CC_API void cc_character_desc_init(cc_character_desc* desc);
+CC_API void cc_garment_desc_init(cc_garment_desc* desc);
+CC_API void cc_camera_desc_init(cc_camera_desc* desc);
+CC_API void cc_body_desc_init(cc_body_desc* desc);
+CC_API void cc_body_landmarks_init(cc_body_landmarks* landmarks);
 
-cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
-void cc_world_destroy(cc_world* world);
+CC_API cc_status cc_world_create(const cc_world_desc* desc, cc_world** out_world);
+/* Message of the last cc_world_create() on this thread that failed ("" if none). */
+CC_API const char* cc_world_create_error(void);
+CC_API void cc_world_destroy(cc_world* world);
 /* Message of the last call on `world` that failed ("" if none); valid until the next call. */
-const char* cc_world_last_error(const cc_world* world);
+CC_API const char* cc_world_last_error(const cc_world* world);
 
-cc_status cc_world_add_cloth_asset(cc_world* world, const cc_cloth_asset_desc* desc, cc_asset_id* out_asset);
-cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* desc, cc_body_id* out_body);
-cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
+CC_API cc_status cc_world_add_cloth_asset(cc_world* world, const cc_cloth_asset_desc* desc, cc_asset_id* out_asset);
+CC_API cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* desc, cc_body_id* out_body);
+CC_API cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
                                     uint32_t stride_bytes, const uint32_t* triangles, uint32_t triangle_count,
                                     cc_body_id* out_body);
 /* Imported characters: crowdcloth/crowdcloth_import.h (the optional import library) adds bodies
  * from files. Host-skinned bodies without a humanoid shape need the host's landmarks for garments;
  * landmarks apply to characters added afterwards. */
-cc_status cc_world_set_body_landmarks(cc_world* world, cc_body_id body, const cc_body_landmarks* landmarks);
-cc_status cc_world_get_body_landmarks(const cc_world* world, cc_body_id body, cc_body_landmarks* out_landmarks);
-cc_status cc_world_get_body_clip_count(const cc_world* world, cc_body_id body, uint32_t* out_count);
+CC_API cc_status cc_world_set_body_landmarks(cc_world* world, cc_body_id body, const cc_body_landmarks* landmarks);
+CC_API cc_status cc_world_get_body_landmarks(const cc_world* world, cc_body_id body, cc_body_landmarks* out_landmarks);
+CC_API cc_status cc_world_get_body_clip_count(const cc_world* world, cc_body_id body, uint32_t* out_count);
 /* Name of clip `index` of a body; valid as long as the world. */
-cc_status cc_world_get_body_clip_name(const cc_world* world, cc_body_id body, uint32_t index, const char** out_name);
-cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
-cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
-cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
-cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_character_id character, const float* positions,
+CC_API cc_status cc_world_get_body_clip_name(const cc_world* world, cc_body_id body, uint32_t index, const char** out_name);
+CC_API cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
+CC_API cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
+CC_API cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
+CC_API cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_character_id character, const float* positions,
                                                   uint32_t vertex_count, uint32_t stride_bytes);
-cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
+CC_API cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
                                const cc_garment_desc* desc, cc_garment_id* out_garment);
-cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
-cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
-cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
-cc_status cc_world_step(cc_world* world, double dt);
-cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
-cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
+CC_API cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
+CC_API cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
+CC_API cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
+CC_API cc_status cc_world_step(cc_world* world, double dt);
+/* The same step in phases of tasks for the host's job system (World::beginStep in World.h), bit for
+ * bit cc_world_step():
+ *   cc_world_begin_step(world, dt);
+ *   do { run cc_world_run_step_task(world, i) for i < cc_world_step_task_count(), any threads, and
+ *        wait for all } while (cc_world_next_step_phase(world));
+ *   cc_world_end_step(world);
+ * cc_world_run_step_task may run concurrently: it records no last error (its status says all). */
+CC_API cc_status cc_world_begin_step(cc_world* world, double dt);
+CC_API uint32_t cc_world_step_task_count(const cc_world* world);
+CC_API cc_status cc_world_run_step_task(cc_world* world, uint32_t index);
+/* 1 when another phase of tasks is open, 0 when the tasks are done (then cc_world_end_step). */
+CC_API int32_t cc_world_next_step_phase(cc_world* world);
+CC_API cc_status cc_world_end_step(cc_world* world);
+CC_API cc_status cc_world_get_render_mesh(const cc_world* world, cc_garment_id garment, cc_render_mesh* out_mesh);
+CC_API cc_status cc_world_get_garment_stats(const cc_world* world, cc_garment_id garment, cc_garment_stats* out_stats);
 /* The design as cut for the garment's body (width, length, hem_width filled in). */
-cc_status cc_world_get_garment_fit(const cc_world* world, cc_garment_id garment, cc_cloth_asset_desc* out_desc);
-cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats* out_stats);
+CC_API cc_status cc_world_get_garment_fit(const cc_world* world, cc_garment_id garment, cc_cloth_asset_desc* out_desc);
+CC_API cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats* out_stats);
 /* JSON text of the last frame's stats; valid until the next call on the world. */
-cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
-cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
+CC_API cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
+CC_API cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
 
 #ifdef __cplusplus
 }

@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "crowdcloth/ImportExport.h"
 #include "crowdcloth/crowdcloth.h"
 
 #ifdef __cplusplus
@@ -34,11 +35,11 @@ typedef struct cc_import_settings {
     uint64_t max_memory_bytes;        /* [bytes] 0 = no cap */
 } cc_import_settings;
 
-void cc_import_settings_init(cc_import_settings* settings);
+CC_IMPORT_API void cc_import_settings_init(cc_import_settings* settings);
 
 /* Reads a skinned character (any format assimp 5.2.5 reads with bones, or an unskinned one) and
  * adds it as a body the world skins itself. settings and desc may be NULL (defaults). */
-cc_status cc_world_add_body_from_file(cc_world* world, const char* path, const cc_import_settings* settings,
+CC_IMPORT_API cc_status cc_world_add_body_from_file(cc_world* world, const char* path, const cc_import_settings* settings,
                                       const cc_body_desc* desc, cc_body_id* out_body);
 
 #ifdef __cplusplus

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <string>
 
+#include "crowdcloth/ImportExport.h"
 #include "crowdcloth/character/Character.h"
 
 namespace cc {
@@ -15,7 +16,7 @@ enum class ImportUpAxis {
 };
 
 /// How characters are read. Plain settings; validate() names the first bad field.
-struct ImportSettings {
+struct CC_IMPORT_API ImportSettings {
     /// Merge identical vertices (assimp's JoinIdenticalVertices). Changes vertex counts (CesiumMan:
     /// 3273 -> 2612), so garments bound to a body must be bound with the same setting.
     bool joinIdenticalVertices = true;
@@ -64,12 +65,12 @@ struct ImportSettings {
 /// every number checked. A missing, empty, oversized, truncated, malformed or unsupported file, or
 /// one whose skin weights do not sum to 1, gives an error whose message starts with the file path
 /// and names the problem.
-Result<Character> importCharacter(const std::string& path, const ImportSettings& settings = {});
+CC_IMPORT_API Result<Character> importCharacter(const std::string& path, const ImportSettings& settings = {});
 
 /// Writes a character with its skeleton, skin and clips through assimp's glTF 2 exporter: .glb
 /// (binary) or .gltf (JSON with its .bin beside it). Other extensions are refused: assimp 5.2.5's
 /// FBX and Collada writers lose or corrupt skinned animation (see CharacterExport.cpp). Clip key
 /// times are written in seconds. The character is validated first; errors name the file.
-Status exportCharacter(const Character& character, const std::string& path);
+CC_IMPORT_API Status exportCharacter(const Character& character, const std::string& path);
 
 } // namespace cc

@@ -1,0 +1,23 @@
+# cc_docs (optional, not part of `all`): the API reference from the installed headers' comments,
+# written by Doxygen to <build>/docs/html. Only when Doxygen is found (Debian: doxygen).
+find_package(Doxygen QUIET)
+if(NOT DOXYGEN_FOUND)
+    return()
+endif()
+get_target_property(cc_doc_headers crowdcloth CC_PUBLIC_HEADERS)
+if(TARGET cc_import)
+    get_target_property(cc_doc_import_headers cc_import CC_PUBLIC_HEADERS)
+    list(APPEND cc_doc_headers ${cc_doc_import_headers})
+endif()
+set(DOXYGEN_PROJECT_NAME crowdcloth)
+set(DOXYGEN_PROJECT_NUMBER ${PROJECT_VERSION})
+set(DOXYGEN_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/docs)
+set(DOXYGEN_GENERATE_LATEX NO)
+set(DOXYGEN_EXTRACT_ALL YES)
+set(DOXYGEN_JAVADOC_AUTOBRIEF YES)
+# The export macros are attributes, not part of the documented names.
+set(DOXYGEN_MACRO_EXPANSION YES)
+set(DOXYGEN_PREDEFINED "CC_API=" "CC_IMPORT_API=")
+set(DOXYGEN_STRIP_FROM_INC_PATH ${PROJECT_SOURCE_DIR}/engine/include ${PROJECT_BINARY_DIR}/include)
+set(DOXYGEN_WARN_IF_UNDOCUMENTED NO)
+doxygen_add_docs(cc_docs ${cc_doc_headers} COMMENT "crowdcloth API reference (Doxygen)")
