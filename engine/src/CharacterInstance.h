@@ -29,6 +29,7 @@ struct CharacterInstance {
                                     ///< through a teleport
     double yawRate = 0.0;           ///< [rad/s] heading's rate over the last frame; kept through a
                                     ///< teleport
+    bool motionKnown = false;       ///< velocity and yawRate measured over a step (not the spawn's 0)
     CharacterPose pose;             ///< skin matrices at clipTime (character space)
     bool poseCurrent = false;       ///< pose evaluated this frame
     std::vector<Vec3> skinnedPositions;  ///< character space; valid when skinnedCurrent

@@ -450,6 +450,17 @@ Status WorldImpl::beginStep(double dt) {
             c.velocity = velocity;
             c.yawRate = yawRate;
         }
+        // A character's first motion is how it was spawned (placed, then walking), not a push:
+        // its garments start from that motion rather than from rest.
+        if (!c.motionKnown) {
+            c.motionKnown = true;
+            for (GarmentId id : c.garments) {
+                if (GarmentInstance* g = mGarments.get(id)) {
+                    g->lastRootVelocity = c.velocity;
+                    g->lastYawRate = c.yawRate;
+                }
+            }
+        }
         c.previousPosition = c.position;
         c.previousYaw = c.yaw;
         c.poseCurrent = false;
