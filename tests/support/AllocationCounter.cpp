@@ -29,8 +29,8 @@ std::atomic<bool> gClassify{false};
 // Unwinding costs microseconds, so only while a test asks for it.
 void countCaller(const void* caller) {
     if (!gClassify.load(std::memory_order_relaxed)) return;
-    void* frames[6];
-    const int n = backtrace(frames, 6);
+    void* frames[12];
+    const int n = backtrace(frames, 12);
     for (int i = 0; i < n; ++i) {
         Dl_info info;
         const void* at = i == 0 ? caller : frames[i];
