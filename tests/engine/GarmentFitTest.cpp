@@ -14,6 +14,7 @@
 #include "BodyAsset.h"
 #include "GarmentFit.h"
 #include "crowdcloth/World.h"
+#include "support/WorldPtr.h"
 #include "crowdcloth/character/Mannequin.h"
 #include "crowdcloth/import/CharacterIO.h"
 
@@ -22,10 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct WorldDeleter {
-    void operator()(World* w) const { World::destroy(w); }
-};
-using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+using test::WorldPtr;
 
 WorldPtr makeWorld() {
     WorldDesc d;

@@ -7,15 +7,13 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
+#include "support/WorldPtr.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
 namespace {
 
-struct WorldDeleter {
-    void operator()(World* w) const { World::destroy(w); }
-};
-using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+using test::WorldPtr;
 
 struct Box {
     Vec3 lo = Vec3::Constant(1e30), hi = Vec3::Constant(-1e30);

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
+#include "support/WorldPtr.h"
 #include "crowdcloth/import/CharacterIO.h"
 #include "support/BodyInside.h"
 #include "support/CrowdScenes.h"
@@ -27,10 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct WorldDeleter {
-    void operator()(World* w) const { World::destroy(w); }
-};
-using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+using test::WorldPtr;
 
 using test::distanceToSurface;
 using test::vertexOf;

@@ -9,15 +9,13 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
+#include "support/WorldPtr.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
 namespace {
 
-struct WorldDeleter {
-    void operator()(World* w) const { World::destroy(w); }
-};
-using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+using test::WorldPtr;
 
 constexpr double kG = 9.81;
 constexpr double kDt = 1.0 / 60.0;

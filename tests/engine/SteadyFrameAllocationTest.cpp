@@ -7,16 +7,14 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
+#include "support/WorldPtr.h"
 #include "support/AllocationCounter.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
 namespace {
 
-struct WorldDeleter {
-    void operator()(World* w) const { World::destroy(w); }
-};
-using WorldPtr = std::unique_ptr<World, WorldDeleter>;
+using test::WorldPtr;
 
 TEST(SteadyFrame, ACrowdStepsWithoutAllocating) {
     WorldDesc desc;
