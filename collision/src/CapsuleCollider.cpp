@@ -94,9 +94,10 @@ Status CapsuleCollider::reset(Span<const Capsule> capsules) {
 Status CapsuleCollider::queryProximity(Span<const Vec3> points, const ContactQuery& query,
                                        std::vector<Contact>& outContacts) const {
     outContacts.clear();
-    if (Status s = query.validate(); !s) return s;
+    if (Status s = query.validateFor(points.size()); !s) return s;
     if (Status s = detail::checkPoints(points, "CapsuleCollider::queryProximity"); !s) return s;
     if (points.empty()) return Status::ok();
+    const double maxReach = query.maxReach();
     // Only capsules whose reach overlaps the points' box can touch any of them (a cape never
     // reaches the shins).
     Eigen::AlignedBox3d box;
@@ -107,7 +108,7 @@ Status CapsuleCollider::queryProximity(Span<const Vec3> points, const ContactQue
     uint32_t nearCount = 0;
     for (uint32_t k = 0; k < mCurrent.size(); ++k) {
         const Capsule& c = mCurrent[k];
-        const double grow = c.radius + query.reach();
+        const double grow = c.radius + maxReach;
         Eigen::AlignedBox3d reach(c.a.cwiseMin(c.b) - Vec3::Constant(grow), c.a.cwiseMax(c.b) + Vec3::Constant(grow));
         if (!reach.intersects(box)) continue;
         if (nearCount == 64) {  // more capsules than the list holds: test them all
@@ -127,7 +128,7 @@ Status CapsuleCollider::queryProximity(Span<const Vec3> points, const ContactQue
             const uint32_t k = nearCount == UINT32_MAX ? n : near[n];
             if (nearCount != UINT32_MAX && (points[i] - centre[n]).squaredNorm() > bound2[n]) continue;
             const Closest c = closestOnCapsule(points[i], mCurrent[k]);
-            if (c.gap > query.reach()) continue;
+            if (c.gap > query.reach(i)) continue;
             const Capsule& now = mCurrent[k];
             const Capsule& before = mPrevious[k];
             Contact contact;

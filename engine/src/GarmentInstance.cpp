@@ -225,12 +225,15 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
     // Against capsules (a garment small on screen) the update's contact planes are the whole
     // response; the corrections after the solve are for garments seen close, against the mesh.
     if (context.collider && !context.proxies) {
-        // Reach as far as a vertex moved: one that the solve carried deeper into the body than the
-        // thickness (squeezed between two limbs, say) is still found inside and pushed out.
-        double moved = 0.0;
-        for (std::size_t v = 0; v < mPositions.size(); ++v) moved = std::max(moved, (mPositions[v] - mStepStart[v]).norm());
+        // Each vertex reaches as far as it moved: one that the solve carried deeper into the body
+        // than the thickness (squeezed between two limbs, say) is still found inside and pushed
+        // out. (One reach for all, the farthest move, visited every triangle near a swinging hem
+        // for every vertex, and cost more than the solve.)
+        mMargins.resize(mPositions.size());
+        for (std::size_t v = 0; v < mPositions.size(); ++v)
+            mMargins[v] = std::clamp((mPositions[v] - mStepStart[v]).norm(), mAsset->desc.thickness, kMaxCorrectionReach);
         collision::BodyContactSettings settings = contactSettings();
-        settings.query.margin = std::clamp(moved, mAsset->desc.thickness, kMaxCorrectionReach);
+        settings.query.pointMargins = mMargins;
         const collision::Collider* colliders[1] = {context.collider};
         if (Status s = mContactStage.gather(colliders, mStepStart, mPositions, settings, mContacts); !s) return s;
         cloth::ContactResponse response;
@@ -246,6 +249,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
             // A push out of one part of the body can end inside another (out of the pelvis, into
             // the thigh it overlaps): one more proximity pass, which knows which part a point is in.
             settings.continuous = false;
+            settings.query.pointMargins = {};
             settings.query.margin = mAsset->desc.thickness;
             if (Status s = mContactStage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
             if (Status s = cloth::resolveContacts(mContacts, response, *level.cloth, mPositions, mVelocities, nullptr,

@@ -140,6 +140,7 @@ private:
     collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
     std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update
+    std::vector<double> mMargins;           ///< per vertex: how far the correction looks for the body
     cloth::SubstepWorkspace mLimitWork;     ///< the strain limit after the body's corrections
     std::vector<Vec3> mStepStart;           ///< positions before the solve
     collision::SelfCollision mSelf;         ///< for the current level, made on first need

@@ -26,6 +26,7 @@ struct RunOptions {
     ColorBy colorBy = ColorBy::None;
     int supersample = 1;
     int threads = 0;
+    bool fullResolution = false;  ///< every garment at its finest level, every frame (no budget)
     bool scaling = false, tradeoff = false, batch = false;
 };
 

@@ -2,6 +2,7 @@
 // bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -53,8 +54,8 @@ void expectMatchesBruteForce(const BodyCollider& body, const test::BodyMesh& m, 
     int expected = 0;
     for (uint32_t i = 0; i < points.size(); ++i) {
         const Brute b = bruteClosest(m, points[i]);
-        const bool within = b.distance <= query.reach();
-        const bool borderline = std::abs(b.distance - query.reach()) < 1e-9;
+        const bool within = b.distance <= query.reach(i);
+        const bool borderline = std::abs(b.distance - query.reach(i)) < 1e-9;
         const bool reported = next < contacts.size() && contacts[next].vertex == i;
         if (!borderline) {
             EXPECT_EQ(within, reported) << "point " << i << " at distance " << b.distance;
@@ -103,6 +104,81 @@ TEST(BodyCollider, ProximityMatchesBruteForceOnRandomMeshesAndAfterRefits) {
     ASSERT_TRUE(body->update(m.positions, 1.0 / 60).isOk());
     EXPECT_EQ(body->stats().rebuilds, rebuilds + 1);
     expectMatchesBruteForce(*body, m, probePoints(m, rng, 600, 0.05), query);
+}
+
+TEST(BodyCollider, PerPointMarginsMatchBruteForce) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    auto device = makeDevice();
+    const test::BodyMesh m = test::uvSphere(Vec3(0.0, 1.0, 0.0), 0.15, 12, 18);
+    auto body = BodyCollider::create(*device, m.triangles, m.positions).value();
+    const std::vector<Vec3> points = probePoints(m, rng, 3000, 0.12);
+    std::vector<double> margins(points.size());
+    for (double& x : margins) x = 0.1 * unit(rng) * unit(rng);  // most small, a few wide
+    ContactQuery query;
+    query.thickness = 0.01;
+    query.margin = 1.0;  // ignored while pointMargins is given
+    query.pointMargins = margins;
+    expectMatchesBruteForce(*body, m, points, query);
+
+    margins.pop_back();
+    query.pointMargins = margins;
+    std::vector<Contact> contacts;
+    Status s = body->queryProximity(points, query, contacts);
+    ASSERT_FALSE(s.isOk());
+    EXPECT_NE(s.message().find("pointMargins"), std::string::npos) << s.message();
+    margins.push_back(-0.5);
+    query.pointMargins = margins;
+    s = body->queryProximity(points, query, contacts);
+    ASSERT_FALSE(s.isOk());
+    EXPECT_NE(s.message().find("pointMargins[" + std::to_string(points.size() - 1) + "]"), std::string::npos)
+        << s.message();
+}
+
+TEST(BodyCollider, ManyPartsNearAPointGiveItsNearestPartsExactly) {
+    // Seven overlapping spheres (a body's limbs, each its own part) around probes that reach all
+    // of them: each point gets one contact per part for its 4 nearest parts within reach, each at
+    // that part's closest point (the search may shrink once 4 parts are held, never lose one).
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    auto device = makeDevice();
+    test::BodyMesh all;
+    std::vector<test::BodyMesh> parts;
+    for (int k = 0; k < 7; ++k) {
+        const Vec3 centre(0.12 * std::cos(0.9 * k), 1.0 + 0.05 * k, 0.12 * std::sin(0.9 * k));
+        parts.push_back(test::uvSphere(centre, 0.07 + 0.01 * k, 8, 12));
+        const uint32_t base = uint32_t(all.positions.size());
+        for (const Vec3& p : parts.back().positions) all.positions.push_back(p);
+        for (const auto& t : parts.back().triangles) all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    auto body = BodyCollider::create(*device, all.triangles, all.positions).value();
+    std::vector<Vec3> points;
+    for (int i = 0; i < 800; ++i) points.push_back(Vec3(0.0, 1.15, 0.0) + 0.3 * Vec3(u(rng), u(rng), u(rng)));
+    ContactQuery query;
+    query.thickness = 0.01;
+    query.margin = 0.3;
+    std::vector<Contact> contacts;
+    ASSERT_TRUE(body->queryProximity(points, query, contacts).isOk());
+    std::size_t next = 0;
+    int withFour = 0;
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        std::vector<double> distance;
+        for (const test::BodyMesh& part : parts) distance.push_back(bruteClosest(part, points[i]).distance);
+        std::vector<double> within;
+        for (double d : distance)
+            if (d <= query.reach()) within.push_back(d);
+        std::sort(within.begin(), within.end());
+        if (within.size() > 4) within.resize(4);
+        withFour += within.size() == 4;
+        std::vector<double> reported;
+        for (; next < contacts.size() && contacts[next].vertex == i; ++next)
+            reported.push_back((contacts[next].point - points[i]).norm());
+        std::sort(reported.begin(), reported.end());
+        ASSERT_EQ(reported.size(), within.size()) << "point " << i;
+        for (std::size_t k = 0; k < within.size(); ++k) EXPECT_NEAR(reported[k], within[k], 1e-9) << "point " << i;
+    }
+    EXPECT_EQ(next, contacts.size());
+    EXPECT_GT(withFour, 100) << "the probes should be near more parts than a point keeps";
 }
 
 namespace {

@@ -39,14 +39,18 @@ TEST(ContinuousContacts, MatchBruteForceOverEveryTriangleAcrossRefits) {
         std::size_t next = 0;
         for (uint32_t i = 0; i < start.size(); ++i) {
             // Brute force with the collider's documented rule: first touch within thickness / 4,
-            // only from the outer side of a triangle at the start.
+            // only from the outer side of a triangle at the start, only ending less than the
+            // thickness above its plane.
             CcdSettings ccd;
             ccd.thickness = 0.25 * query.thickness;
-            ccd.distanceTolerance = 0.05 * ccd.thickness;
+            ccd.distanceTolerance = 0.5 * ccd.thickness;
+            ccd.timeTolerance = 1e-3;
             double first = 2.0;
             for (const auto& t : m.triangles) {
                 const Vec3 &a0 = before[t[0]], &b0 = before[t[1]], &c0 = before[t[2]];
                 if ((start[i] - a0).dot((b0 - a0).cross(c0 - a0)) < 0.0) continue;
+                const Vec3 &a1 = m.positions[t[0]], &b1 = m.positions[t[1]], &c1 = m.positions[t[2]];
+                if ((end[i] - a1).dot((b1 - a1).cross(c1 - a1).normalized()) >= query.thickness) continue;
                 CcdHit hit;
                 if (vertexTriangleCcd({start[i], a0, b0, c0}, {end[i], m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]},
                                       ccd, hit) == CcdOutcome::Contact) {

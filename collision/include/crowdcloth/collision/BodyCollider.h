@@ -70,7 +70,7 @@ public:
     /// Teleports the body: previous = current = positions, zero velocity, full rebuild.
     Status reset(Span<const Vec3> positions);
 
-    /// For every point within query.reach() of the current surface: the closest surface point,
+    /// For every point within query.reach(i) of the current surface: the closest surface point,
     /// outward normal, depth and surface velocity, appended to outContacts sorted by vertex (the
     /// point's index in `points`, which must be finite). outContacts is cleared first.
     Status queryProximity(Span<const Vec3> points, const ContactQuery& query,
@@ -82,7 +82,10 @@ public:
     /// a contact at the first time of impact, with that triangle's point (same barycentric
     /// weights) and outward normal at the end of the step. Only a point that starts on the outer
     /// side of the triangle counts: one already behind it is a penetration for the proximity
-    /// contact. Sorted by vertex, one contact per vertex. outContacts is cleared first.
+    /// contact; and only one that ends less than query.thickness above the triangle's plane (else
+    /// the contact's depth would be <= 0: it asks for nothing). The search resolves the gap to half
+    /// of thickness / 4 and the time to 1e-3 of the step. Sorted by vertex, one contact per vertex.
+    /// outContacts is cleared first.
     Status queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
                            std::vector<Contact>& outContacts) const override;
 
