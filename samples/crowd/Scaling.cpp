@@ -88,11 +88,7 @@ int runScaling(double budgetMs, int threadCount) {
             cc::WorldDesc desc;
             desc.maxThreads = uint32_t(threadCount);
             desc.frameBudgetMs = budgetMs;
-            if (full) { // every garment at its finest level, every frame
-                desc.pixelTolerance = 1e-9;
-                desc.frameBudgetMs = 1e9;
-                desc.maxUpdateInterval = 1;
-            }
+            if (full) useFullResolution(desc);
             const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
             if (!r.ok) return 1;
             const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);

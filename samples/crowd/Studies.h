@@ -26,6 +26,14 @@ using WorldPtr = std::unique_ptr<cc::World, WorldDeleter>;
 
 using cc::render::lookAt;  // 60-degree camera, Y up
 
+/// Every garment at its finest level, updated every frame, with no budget: what LOD saves
+/// (`cc_crowd --full-resolution`, and the scaling study's mode=full).
+inline void useFullResolution(cc::WorldDesc& desc) {
+    desc.pixelTolerance = 1e-9;
+    desc.frameBudgetMs = 1e9;
+    desc.maxUpdateInterval = 1;
+}
+
 /// Crowd scaling: 10 -> 1000 characters with LOD and at full resolution, and 1 -> 2 threads.
 int runScaling(double budgetMs, int threads);
 /// A cape on a walking mannequin at each uniform level against the finest one.

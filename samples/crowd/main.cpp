@@ -90,11 +90,7 @@ int runCrowd(const RunOptions& o) {
     cc::WorldDesc desc;
     desc.maxThreads = uint32_t(o.threads);
     desc.frameBudgetMs = scene.budgetMs;
-    if (o.fullResolution) { // as `--scaling` runs mode=full
-        desc.pixelTolerance = 1e-9;
-        desc.frameBudgetMs = 1e9;
-        desc.maxUpdateInterval = 1;
-    }
+    if (o.fullResolution) crowd::useFullResolution(desc);
     auto created = cc::World::create(desc);
     if (!created.isOk()) return fail(created.status().message());
     crowd::WorldPtr world(created.value());

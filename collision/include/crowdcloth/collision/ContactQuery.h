@@ -1,9 +1,7 @@
 #pragma once
 
-#include <string>
-
 #include <algorithm>
-#include <cmath>
+#include <string>
 
 #include "crowdcloth/core/ParallelFor.h"
 #include "crowdcloth/core/Span.h"
