@@ -8,6 +8,7 @@
 #include <mutex>
 #include <string>
 
+#include "crowdcloth/collision/BodyTopology.h"
 #include "crowdcloth/collision/Ccd.h"
 #include "crowdcloth/core/ParallelFor.h"
 #include "EmbreeDevice.h"
@@ -33,28 +34,15 @@ Status BodyColliderSettings::validate() const {
 struct BodyCollider::Impl {
     CollisionDevice* device = nullptr;
     BodyColliderSettings settings;
-    std::vector<std::array<uint32_t, 3>> triangles;
+    std::shared_ptr<const BodyTopology> shape;  // shared by every collider of the body
     std::vector<Vec3> current, previous, velocity, buildPose;
     double buildDiagonal = 0.0;
 
     // Pseudonormals of the current pose (Baerentzen & Aanaes 2005): unit face normals, angle-weighted
-    // vertex normals, and per triangle edge the sum of the face normals sharing that edge.
+    // vertex normals (on demand, from shape's triangles around the vertex), and per triangle edge
+    // the sum of the face normals sharing that edge.
     std::vector<Vec3> faceNormal, edgeNormal;
-    // Vertex pseudonormals are needed only where a query's closest point is a vertex: computed on
-    // demand from the triangles around it (vertexTriangles[vertexStart[v] .. vertexStart[v + 1])).
-    std::vector<uint32_t> vertexStart, vertexTriangles;
-    // welded[v]: the lowest index of a vertex at v's bind position; topology: the triangles on
-    // welded indices (what vertexStart, edges and parts are built on).
-    std::vector<uint32_t> welded;
-    std::vector<std::array<uint32_t, 3>> topology;
     std::vector<uint8_t> degenerate;
-    // Connected parts (triangles sharing vertices): a body is often several closed surfaces that
-    // overlap (a thigh into the pelvis), and a point outside the nearest one may be inside another.
-    std::vector<uint32_t> part;
-    uint32_t partCount = 0;
-    // Triangle-edge slots (3 t + k) grouped by undirected edge: slots of group g are
-    // edgeSlots[edgeStart[g] .. edgeStart[g + 1]).
-    std::vector<uint32_t> edgeSlots, edgeStart;
 
     RTCScene scene = nullptr;       // current pose, refit each update
     RTCGeometry mesh = nullptr;
@@ -92,28 +80,6 @@ struct BodyCollider::Impl {
 
 namespace {
 
-uint64_t edgeKey(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
-
-/// For every vertex the lowest index of a vertex at exactly the same position.
-std::vector<uint32_t> weldByPosition(Span<const Vec3> positions) {
-    std::vector<uint32_t> order(positions.size());
-    for (uint32_t v = 0; v < order.size(); ++v) order[v] = v;
-    auto before = [&](uint32_t a, uint32_t b) {
-        const Vec3 &p = positions[a], &q = positions[b];
-        if (p.x() != q.x()) return p.x() < q.x();
-        if (p.y() != q.y()) return p.y() < q.y();
-        if (p.z() != q.z()) return p.z() < q.z();
-        return a < b;
-    };
-    std::sort(order.begin(), order.end(), before);
-    std::vector<uint32_t> welded(positions.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        const bool same = i > 0 && positions[order[i]] == positions[order[i - 1]];
-        welded[order[i]] = same ? welded[order[i - 1]] : order[i];
-    }
-    return welded;
-}
-
 // Embree's float boxes may miss a double triangle by a rounding error: queries are widened by this
 // relative amount (plus an absolute floor) and the exact test runs in double.
 constexpr double kFloatSlack = 1e-5;
@@ -122,7 +88,7 @@ float widen(double radius, double scale) { return float(radius * (1.0 + kFloatSl
 
 void sweptBounds(const RTCBoundsFunctionArguments* args) {
     const auto* impl = static_cast<const BodyCollider::Impl*>(args->geometryUserPtr);
-    const auto& tri = impl->triangles[args->primID];
+    const auto& tri = impl->shape->triangles[args->primID];
     Eigen::AlignedBox3d box;
     for (uint32_t v : tri) {
         box.extend(impl->previous[v]);
@@ -151,11 +117,11 @@ Status BodyCollider::Impl::checkPose(Span<const Vec3> positions, const char* wha
 }
 
 void BodyCollider::Impl::computeNormals() {
-    const uint32_t nt = uint32_t(triangles.size());
+    const uint32_t nt = uint32_t(shape->triangles.size());
     stats.degenerateTriangles = 0;
     const double limit2 = 4.0 * settings.degenerateArea * settings.degenerateArea;
     for (uint32_t t = 0; t < nt; ++t) {
-        const auto& tri = triangles[t];
+        const auto& tri = shape->triangles[t];
         const Vec3 a = current[tri[0]], e0 = current[tri[1]] - a, e2 = current[tri[2]] - a;
         const Vec3 e1 = e2 - e0;
         const Vec3 cross = e0.cross(e2);
@@ -171,21 +137,21 @@ void BodyCollider::Impl::computeNormals() {
         }
         faceNormal[t] = cross / std::sqrt(cross2);
     }
-    for (std::size_t g = 0; g + 1 < edgeStart.size(); ++g) {
+    for (std::size_t g = 0; g + 1 < shape->edgeStart.size(); ++g) {
         Vec3 sum = Vec3::Zero();
-        for (uint32_t s = edgeStart[g]; s < edgeStart[g + 1]; ++s) sum += faceNormal[edgeSlots[s] / 3];
-        for (uint32_t s = edgeStart[g]; s < edgeStart[g + 1]; ++s) edgeNormal[edgeSlots[s]] = sum;
+        for (uint32_t s = shape->edgeStart[g]; s < shape->edgeStart[g + 1]; ++s) sum += faceNormal[shape->edgeSlots[s] / 3];
+        for (uint32_t s = shape->edgeStart[g]; s < shape->edgeStart[g + 1]; ++s) edgeNormal[shape->edgeSlots[s]] = sum;
     }
 }
 
 Vec3 BodyCollider::Impl::vertexPseudonormal(uint32_t v) const {
     // Angle-weighted sum of the face normals around v (Baerentzen & Aanaes 2005), in a fixed order.
     Vec3 sum = Vec3::Zero();
-    for (uint32_t k = vertexStart[v]; k < vertexStart[v + 1]; ++k) {
-        const uint32_t t = vertexTriangles[k];
+    for (uint32_t k = shape->vertexStart[v]; k < shape->vertexStart[v + 1]; ++k) {
+        const uint32_t t = shape->vertexTriangles[k];
         if (degenerate[t]) continue;
-        const auto& tri = triangles[t];
-        const int corner = topology[t][0] == v ? 0 : topology[t][1] == v ? 1 : 2;
+        const auto& tri = shape->triangles[t];
+        const int corner = shape->welded[t][0] == v ? 0 : shape->welded[t][1] == v ? 1 : 2;
         // Interior angle at the corner, between the edges leaving it.
         const Vec3& at = current[tri[corner]];
         const Vec3 u = current[tri[(corner + 1) % 3]] - at, w = current[tri[(corner + 2) % 3]] - at;
@@ -197,9 +163,9 @@ Vec3 BodyCollider::Impl::vertexPseudonormal(uint32_t v) const {
 Vec3 BodyCollider::Impl::pseudonormal(uint32_t t, Feature f) const {
     switch (f) {
     case Feature::Face: return faceNormal[t];
-    case Feature::Vertex0: return vertexPseudonormal(topology[t][0]);
-    case Feature::Vertex1: return vertexPseudonormal(topology[t][1]);
-    case Feature::Vertex2: return vertexPseudonormal(topology[t][2]);
+    case Feature::Vertex0: return vertexPseudonormal(shape->welded[t][0]);
+    case Feature::Vertex1: return vertexPseudonormal(shape->welded[t][1]);
+    case Feature::Vertex2: return vertexPseudonormal(shape->welded[t][2]);
     case Feature::Edge0: return edgeNormal[3 * t + 0];
     case Feature::Edge1: return edgeNormal[3 * t + 1];
     case Feature::Edge2: return edgeNormal[3 * t + 2];
@@ -230,7 +196,7 @@ Status BodyCollider::Impl::buildScenes() {
     rtcSetGeometryBuildQuality(mesh, RTC_BUILD_QUALITY_LOW);
     // rtcSetNewGeometryBuffer pads the buffer for Embree's 16-byte loads (ECOSYSTEM.md pitfall 2).
     auto* index = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                  3 * sizeof(uint32_t), triangles.size()));
+                                                                  3 * sizeof(uint32_t), shape->triangles.size()));
     const bool gotVertexBuffer = rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), current.size()) != nullptr;
     if (!index || !gotVertexBuffer) {
@@ -238,8 +204,8 @@ Status BodyCollider::Impl::buildScenes() {
         return Status::error(StatusCode::InvalidOperation, "BodyCollider: could not allocate Embree buffers (" +
                                                                e.message() + ")");
     }
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        for (int k = 0; k < 3; ++k) index[3 * t + k] = triangles[t][k];
+    for (std::size_t t = 0; t < shape->triangles.size(); ++t) {
+        for (int k = 0; k < 3; ++k) index[3 * t + k] = shape->triangles[t][k];
     }
     writeVertexBuffer();
     rtcCommitGeometry(mesh);
@@ -251,7 +217,7 @@ Status BodyCollider::Impl::buildScenes() {
     rtcSetSceneBuildQuality(swept, RTC_BUILD_QUALITY_LOW);
     sweptGeometry = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryBuildQuality(sweptGeometry, RTC_BUILD_QUALITY_REFIT);
-    rtcSetGeometryUserPrimitiveCount(sweptGeometry, uint32_t(triangles.size()));
+    rtcSetGeometryUserPrimitiveCount(sweptGeometry, uint32_t(shape->triangles.size()));
     rtcSetGeometryUserData(sweptGeometry, this);
     rtcSetGeometryBoundsFunction(sweptGeometry, sweptBounds, nullptr);
     rtcCommitGeometry(sweptGeometry);
@@ -290,82 +256,30 @@ Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& devi
                                                            Span<const std::array<uint32_t, 3>> triangles,
                                                            Span<const Vec3> positions,
                                                            const BodyColliderSettings& settings) {
+    auto shape = BodyTopology::build(triangles, positions);
+    if (!shape.isOk()) return shape.status();
+    return create(device, std::move(shape).value(), positions, settings);
+}
+
+Result<std::unique_ptr<BodyCollider>> BodyCollider::create(CollisionDevice& device,
+                                                           std::shared_ptr<const BodyTopology> shape,
+                                                           Span<const Vec3> positions,
+                                                           const BodyColliderSettings& settings) {
     if (Status s = settings.validate(); !s) return s;
-    if (triangles.empty()) return Status::invalidArgument("BodyCollider: the body has zero triangles");
-    if (positions.empty()) return Status::invalidArgument("BodyCollider: the body has zero vertices");
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        for (int k = 0; k < 3; ++k) {
-            if (triangles[t][k] >= positions.size()) {
-                return Status::invalidArgument("BodyCollider: triangle " + std::to_string(t) + " corner " +
-                                               std::to_string(k) + " indexes vertex " +
-                                               std::to_string(triangles[t][k]) + ", out of range (body has " +
-                                               std::to_string(positions.size()) + " vertices)");
-            }
-        }
-    }
+    if (!shape) return Status::invalidArgument("BodyCollider: the body topology is null");
     auto impl = std::make_unique<Impl>();
     impl->device = &device;
     impl->settings = settings;
-    impl->triangles.assign(triangles.begin(), triangles.end());
-    impl->current.assign(positions.size(), Vec3::Zero());
+    impl->shape = std::move(shape);
+    impl->current.assign(impl->shape->vertexCount, Vec3::Zero());
     if (Status s = impl->checkPose(positions, "BodyCollider::create"); !s) return s;
     impl->current.assign(positions.begin(), positions.end());
     impl->previous = impl->current;
     impl->velocity.assign(positions.size(), Vec3::Zero());
-
-    const uint32_t nt = uint32_t(triangles.size());
+    const std::size_t nt = impl->shape->triangles.size();
     impl->faceNormal.assign(nt, Vec3::Zero());
-    impl->edgeNormal.assign(3 * std::size_t(nt), Vec3::Zero());
-    // Topology on positions, not indices: an exported skin splits a vertex at every UV or normal
-    // seam, and a body torn into open patches there has no inside (its pseudonormals and parts
-    // would be those of the patches).
-    impl->welded = weldByPosition(positions);
-    impl->topology.resize(nt);
-    for (uint32_t t = 0; t < nt; ++t)
-        for (int k = 0; k < 3; ++k) impl->topology[t][k] = impl->welded[triangles[t][k]];
-    impl->vertexStart.assign(positions.size() + 1, 0);
-    for (const auto& tri : impl->topology)
-        for (uint32_t v : tri) ++impl->vertexStart[v + 1];
-    for (std::size_t v = 0; v < positions.size(); ++v) impl->vertexStart[v + 1] += impl->vertexStart[v];
-    impl->vertexTriangles.resize(impl->vertexStart.back());
-    {
-        std::vector<uint32_t> fill(impl->vertexStart.begin(), impl->vertexStart.end() - 1);
-        for (uint32_t t = 0; t < nt; ++t)
-            for (uint32_t v : impl->topology[t]) impl->vertexTriangles[fill[v]++] = t;
-    }
+    impl->edgeNormal.assign(3 * nt, Vec3::Zero());
     impl->degenerate.assign(nt, 0);
-    std::vector<std::pair<uint64_t, uint32_t>> keyed;
-    keyed.reserve(3 * std::size_t(nt));
-    for (uint32_t t = 0; t < nt; ++t) {
-        const auto& tri = impl->topology[t];
-        for (uint32_t k = 0; k < 3; ++k) keyed.push_back({edgeKey(tri[k], tri[(k + 1) % 3]), 3 * t + k});
-    }
-    std::sort(keyed.begin(), keyed.end());
-    for (std::size_t i = 0; i < keyed.size(); ++i) {
-        if (i == 0 || keyed[i].first != keyed[i - 1].first) impl->edgeStart.push_back(uint32_t(i));
-        impl->edgeSlots.push_back(keyed[i].second);
-    }
-    impl->edgeStart.push_back(uint32_t(keyed.size()));
-    {
-        std::vector<uint32_t> parent(positions.size());
-        for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
-        auto find = [&](uint32_t v) {
-            while (parent[v] != v) v = parent[v] = parent[parent[v]];
-            return v;
-        };
-        for (const auto& tri : impl->topology)
-            for (int k = 1; k < 3; ++k) {
-                const uint32_t a = find(tri[0]), b = find(tri[k]);
-                if (a != b) parent[std::max(a, b)] = std::min(a, b);
-            }
-        std::vector<uint32_t> index(positions.size(), UINT32_MAX);
-        impl->part.resize(nt);
-        for (uint32_t t = 0; t < nt; ++t) {
-            const uint32_t root = find(impl->topology[t][0]);
-            if (index[root] == UINT32_MAX) index[root] = impl->partCount++;
-            impl->part[t] = index[root];
-        }
-    }
     impl->computeNormals();
     if (Status s = impl->buildScenes(); !s) return s;
     return std::unique_ptr<BodyCollider>(new BodyCollider(std::move(impl)));
@@ -405,11 +319,14 @@ Status BodyCollider::reset(Span<const Vec3> positions) {
     m.previous = m.current;
     std::fill(m.velocity.begin(), m.velocity.end(), Vec3::Zero());
     m.computeNormals();
-    return m.buildScenes();
+    // The trees are refit unless the pose moved far from the one they were built on, as in an
+    // update: positions are in the body's own frame, so a teleported body, or a collider handed to
+    // another character of the same body, is in a similar pose (a rebuild costs 10x a refit).
+    return m.refit();
 }
 
 uint32_t BodyCollider::vertexCount() const { return uint32_t(mImpl->current.size()); }
-uint32_t BodyCollider::triangleCount() const { return uint32_t(mImpl->triangles.size()); }
+uint32_t BodyCollider::triangleCount() const { return uint32_t(mImpl->shape->triangles.size()); }
 Span<const Vec3> BodyCollider::currentPositions() const { return mImpl->current; }
 Span<const Vec3> BodyCollider::previousPositions() const { return mImpl->previous; }
 const BodyColliderStats& BodyCollider::stats() const { return mImpl->stats; }
@@ -451,12 +368,12 @@ bool proximityCallback(RTCPointQueryFunctionArguments* args) {
     const BodyCollider::Impl& body = *search->body;
     const uint32_t t = args->primID;
     if (body.degenerate[t]) return false;
-    const auto& tri = body.triangles[t];
+    const auto& tri = body.shape->triangles[t];
     const ClosestPoint c = detail::closestPointOnTriangle(search->p, body.current[tri[0]], body.current[tri[1]],
                                                           body.current[tri[2]]);
     const double d2 = (search->p - c.point).squaredNorm();
     if (d2 > search->reach2) return false;
-    const uint32_t part = body.part[t];
+    const uint32_t part = body.shape->part[t];
     int slot = 0;
     while (slot < search->count && search->parts[slot].part != part) ++slot;
     if (slot == search->count) {
@@ -480,7 +397,7 @@ bool proximityCallback(RTCPointQueryFunctionArguments* args) {
         best.triangle = t;
         best.closest = c;
         // One part within reach: the search sphere can shrink to it (ECOSYSTEM.md pitfall 4).
-        if (body.partCount == 1) args->query->radius = std::min(args->query->radius, widen(std::sqrt(d2), search->scale));
+        if (body.shape->partCount == 1) args->query->radius = std::min(args->query->radius, widen(std::sqrt(d2), search->scale));
         shrinkWhenFull(*search, *args->query);
         return true;
     }
@@ -488,7 +405,7 @@ bool proximityCallback(RTCPointQueryFunctionArguments* args) {
 }
 
 Vec3 surfaceVelocity(const BodyCollider::Impl& body, uint32_t t, const std::array<double, 3>& w) {
-    const auto& tri = body.triangles[t];
+    const auto& tri = body.shape->triangles[t];
     return w[0] * body.velocity[tri[0]] + w[1] * body.velocity[tri[1]] + w[2] * body.velocity[tri[2]];
 }
 
@@ -594,7 +511,7 @@ bool sweptCallback(RTCPointQueryFunctionArguments* args) {
     const BodyCollider::Impl& body = *search->body;
     const uint32_t t = args->primID;
     if (body.degenerate[t]) return false;
-    const auto& tri = body.triangles[t];
+    const auto& tri = body.shape->triangles[t];
     const Vec3 &a0 = body.previous[tri[0]], &b0 = body.previous[tri[1]], &c0 = body.previous[tri[2]];
     // Only a vertex that starts on the outer side of the triangle can cross it; one already behind
     // it is a penetration the proximity contact (with its pseudonormal side test) resolves.
@@ -630,7 +547,7 @@ bool sweptCallback(RTCPointQueryFunctionArguments* args) {
     const auto& w = hit.weights;
     best.vertex = 0;  // set by the caller
     best.primitive = t;
-    best.part = body.part[t];
+    best.part = body.shape->part[t];
     best.time = hit.toi;
     best.point = w[0] * body.current[tri[0]] + w[1] * body.current[tri[1]] + w[2] * body.current[tri[2]];
     best.normal = body.faceNormal[t];

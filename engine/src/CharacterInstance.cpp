@@ -1,5 +1,7 @@
 #include "CharacterInstance.h"
 
+#include <limits>
+
 namespace cc::detail {
 
 Status CharacterInstance::updatePose() {
@@ -49,16 +51,32 @@ Result<const collision::Collider*> CharacterInstance::meshColliderAt(collision::
     if (mMeshColliderTime == time) return static_cast<const collision::Collider*>(meshCollider.get());
     if (Status s = updateSkinLocked(); !s) return s;
     if (!meshCollider) {
-        auto made = collision::BodyCollider::create(device, body->mesh().triangles, skinnedPositions);
+        auto made = collision::BodyCollider::create(device, bodyTopology, skinnedPositions);
         if (!made.isOk()) return made.status();
         meshCollider = std::move(made).value();
+        mMeshColliderRebuilt = time;
     } else if (time - mMeshColliderTime > kMaxSweepSteps * sweep) {
         if (Status s = meshCollider->reset(skinnedPositions); !s) return s;
+        mMeshColliderRebuilt = time;
     } else if (Status s = meshCollider->update(skinnedPositions, time - mMeshColliderTime); !s) {
         return s;
     }
     mMeshColliderTime = time;
     return static_cast<const collision::Collider*>(meshCollider.get());
+}
+
+bool CharacterInstance::meshColliderIdle(double time, double idle) const {
+    return meshCollider && time - mMeshColliderTime > idle;
+}
+
+std::unique_ptr<collision::BodyCollider> CharacterInstance::takeMeshCollider() {
+    mMeshColliderTime = -std::numeric_limits<double>::infinity();
+    return std::move(meshCollider);
+}
+
+void CharacterInstance::adoptMeshCollider(std::unique_ptr<collision::BodyCollider> collider) {
+    meshCollider = std::move(collider);
+    mMeshColliderTime = -std::numeric_limits<double>::infinity();  // its pose is another character's
 }
 
 Result<const collision::Collider*> CharacterInstance::proxyColliderAt(collision::CollisionDevice& device, double time,

@@ -46,6 +46,8 @@ struct CharacterInstance {
     std::unique_ptr<collision::BodyCollider> meshCollider;
     collision::CapsuleCollider proxyCollider;
     bool proxyColliderMade = false;
+    BodyId bodyId{};  ///< the body record whose spare colliders this character's collider returns to
+    std::shared_ptr<const collision::BodyTopology> bodyTopology;  ///< the body's, shared by its colliders
 
     /// Root transform (character space -> world).
     Mat3 rotation() const { return Eigen::AngleAxisd(yaw, Vec3::UnitY()).toRotationMatrix(); }
@@ -67,12 +69,23 @@ struct CharacterInstance {
     /// bodies have none and answer with their mesh.
     Result<const collision::Collider*> proxyColliderAt(collision::CollisionDevice& device, double time, double sweep);
 
+    /// A mesh collider no garment asked for since `time - idle` seconds (or none): the World takes
+    /// it back into its body's spares, so a crowd keeps as many as are near the camera.
+    bool meshColliderIdle(double time, double idle) const;
+    std::unique_ptr<collision::BodyCollider> takeMeshCollider();
+    /// The mesh collider was built or reset at `time` (its garments' update times then hold a
+    /// one-off, which the cost model must not learn).
+    bool meshColliderRebuiltAt(double time) const { return mMeshColliderRebuilt == time; }
+    /// A spare collider of the same body, moved to this character's pose on first use (a reset).
+    void adoptMeshCollider(std::unique_ptr<collision::BodyCollider> collider);
+
 private:
     Status updatePoseLocked();
     Status updateSkinLocked();
     std::mutex mMutex;
     Status mPoseStatus;
     double mMeshColliderTime = -1.0;
+    double mMeshColliderRebuilt = -1.0;
     double mProxyColliderTime = -1.0;
     std::vector<collision::Capsule> mCapsules;
 };

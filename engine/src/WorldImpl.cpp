@@ -63,6 +63,12 @@ SolverEffort solverEffort(const WorldDesc& desc, int level, int levelCount) {
 constexpr double kBudgetGain = 0.1;
 constexpr double kMinBudgetScale = 0.2;
 constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this long is dropped
+/// A mesh collider no garment asked for this long [s] goes back to its body's spares, at most this
+/// many per body (each holds ~1.5 MB for a 6k-triangle body): enough for the characters that move
+/// in and out of the camera's near field at once.
+constexpr double kColliderIdleSeconds = 1.0;
+constexpr std::size_t kMaxSpareColliders = 8;
+constexpr std::size_t kPrebuiltColliders = 2;
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
@@ -135,7 +141,7 @@ Result<BodyId> WorldImpl::addBody(BodyAsset body) {
 }
 
 Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
-    const BodyRecord* body = mBodies.get(desc.body);
+    BodyRecord* body = mBodies.get(desc.body);
     if (!body) return staleHandle("CharacterDesc.body");
     const Vec3 position(desc.position[0], desc.position[1], desc.position[2]);
     if (!isFinite(position) || !std::isfinite(desc.yaw))
@@ -144,8 +150,21 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
         return Status::invalidArgument("CharacterDesc.position beyond " + std::to_string(kMaxCoordinate) + " m");
     if (!(desc.playbackRate >= 0.0 && desc.playbackRate <= 10.0))
         return Status::invalidArgument("CharacterDesc.playbackRate must be in [0, 10]");
+    if (!body->topology) {
+        auto topology = collision::BodyTopology::build(body->body->mesh().triangles, body->body->mesh().bindPositions);
+        if (!topology.isOk()) return Status::invalidArgument("addCharacter: body mesh: " + topology.status().message());
+        body->topology = std::move(topology).value();
+        // Two spare colliders now, while nothing is timed: the first builds of a run are the slowest.
+        for (std::size_t k = 0; k < kPrebuiltColliders; ++k) {
+            auto made = collision::BodyCollider::create(*mDevice, body->topology, body->body->mesh().bindPositions);
+            if (!made.isOk()) return Status::invalidArgument("addCharacter: body mesh: " + made.status().message());
+            body->spareColliders.push_back(std::move(made).value());
+        }
+    }
     auto c = std::make_unique<CharacterInstance>();
     c->body = body->body;
+    c->bodyId = desc.body;
+    c->bodyTopology = body->topology;
     if (Status s = resolveClip(*body->body, desc, c->clip, c->clipTime); !s) return s;
     c->playbackRate = desc.playbackRate;
     c->position = c->previousPosition = position;
@@ -166,6 +185,7 @@ Status WorldImpl::removeCharacter(CharacterId id) {
     CharacterInstance* c = mCharacters.get(id);
     if (!c) return staleHandle("character");
     for (GarmentId g : c->garments) mGarments.remove(g);
+    spareMeshCollider(*c);
     mCharacters.remove(id);
     return Status::ok();
 }
@@ -277,8 +297,15 @@ Status WorldImpl::scheduleFrame(double dt) {
             const SolverEffort effort = solverEffort(mDesc, int(l), int(record.asset->levels.size()));
             lp.substeps = effort.substeps;
             lp.iterations = effort.iterations;
-            lp.costMs[int(lod::SolverChoice::SubstepNewton)] = mCostModel.predictMs(
-                handle.index1, int(l), lod::SolverChoice::SubstepNewton, n, lp.substeps, lp.iterations);
+            // The solve with capsules, and what the body mesh adds to it.
+            const auto newton = lod::SolverChoice::SubstepNewton;
+            auto predict = [&](lod::CollisionDetail detail) {
+                return mCostModel.predictMs(handle.index1, int(l), newton, detail, n, lp.substeps, lp.iterations);
+            };
+            const double solve = predict(lod::CollisionDetail::Proxies);
+            lp.costMs[int(newton)] = solve;
+            for (auto detail : {lod::CollisionDetail::Mesh, lod::CollisionDetail::MeshContinuous})
+                lp.collisionCostMs[int(detail)] = std::max(0.0, predict(detail) - solve);
             profile.levels[l] = lp;
         }
     });
@@ -495,9 +522,53 @@ Status WorldImpl::beginStep(double dt) {
             mUpdates.push_back(i);
         }
     }
+    recycleMeshColliders();
     mStepPhase = StepPhase::Prepare;
     mPhaseStart = Clock::now();
     return Status::ok();
+}
+
+void WorldImpl::spareMeshCollider(CharacterInstance& c) {
+    auto collider = c.takeMeshCollider();
+    BodyRecord* record = mBodies.get(c.bodyId);
+    if (collider && record && record->spareColliders.size() < kMaxSpareColliders)
+        record->spareColliders.push_back(std::move(collider));
+}
+
+void WorldImpl::recycleMeshColliders() {
+    mCharacters.forEach([&](auto, CharacterInstance& c) {
+        if (c.meshColliderIdle(mTime, kColliderIdleSeconds)) spareMeshCollider(c);
+    });
+    auto needsBuild = [&](std::size_t i) {
+        const GarmentInstance& g = *mItems[i].garment;
+        const CharacterInstance& c = *mItems[i].character;
+        const lod::CollisionDetail detail = g.schedule.collision;
+        const bool mesh = detail != lod::CollisionDetail::None &&
+                          (detail != lod::CollisionDetail::Proxies || c.body->hostSkinned);
+        return mesh && !c.meshCollider;
+    };
+    // A new collider costs 7-20 ms (Embree's first build of fresh scenes), a spare's reset 0.5: at
+    // most one is built per frame, and the other garments that would need one keep their capsules
+    // for the frame (host-skinned bodies have none: theirs are built).
+    const CharacterInstance* building = nullptr;
+    for (std::size_t i : mUpdates) {
+        if (!needsBuild(i)) continue;
+        CharacterInstance& c = *mItems[i].character;
+        BodyRecord* record = mBodies.get(c.bodyId);
+        if (record && !record->spareColliders.empty()) {
+            c.adoptMeshCollider(std::move(record->spareColliders.back()));
+            record->spareColliders.pop_back();
+        } else if (!building || building == &c || c.body->hostSkinned) {
+            if (!c.body->hostSkinned) building = &c;
+        } else {
+            mItems[i].garment->schedule.collision = lod::CollisionDetail::Proxies;
+        }
+    }
+    // A build is the longest task of its frame: started first, the other threads work meanwhile.
+    // (In place: there are few, and std::stable_partition would allocate.)
+    std::size_t first = 0;
+    for (std::size_t j = 0; j < mUpdates.size(); ++j)
+        if (needsBuild(mUpdates[j])) std::rotate(mUpdates.begin() + first++, mUpdates.begin() + j, mUpdates.begin() + j + 1);
 }
 
 uint32_t WorldImpl::stepTaskCount() const {
@@ -623,8 +694,8 @@ Status WorldImpl::endStep() {
         s.predictedErrorPx = sc.predictedErrorPx;
         s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;
         if (s.updated) {
-            if (!s.failed && !s.levelSwitched)
-                mCostModel.record(g.assetIndex(), g.level(), sc.solver, s.measuredMs);
+            if (!s.failed && !s.levelSwitched && !item.character->meshColliderRebuiltAt(mTime))
+                mCostModel.record(g.assetIndex(), g.level(), sc.solver, sc.collision, s.measuredMs);
             ++fs.updated;
             fs.predictedCpuMs += s.predictedMs;
             fs.measuredCpuMs += s.measuredMs;

@@ -60,6 +60,9 @@ private:
     };
     struct BodyRecord {
         std::shared_ptr<const BodyAsset> body;
+        std::shared_ptr<const collision::BodyTopology> topology;  ///< its mesh's, cooked with its first character
+        /// Mesh colliders of this body that no character needs now (see recycleMeshColliders).
+        std::vector<std::unique_ptr<collision::BodyCollider>> spareColliders;
     };
     /// A garment design as added: cooked per body on first use (GarmentFit), each fitted asset
     /// then an asset of its own (own levels, cost profile), shared by every wearer of that body.
@@ -101,6 +104,12 @@ private:
     /// One batch: the shared solve, then each garment's corrections and render mesh.
     void simulateBatch(Batch& batch);
     void fail(GarmentInstance& g, const Status& status);
+    /// Mesh colliders follow the camera: idle ones go back to their body's spares, and this
+    /// frame's updates that need one take a spare before one is built; updates that still build
+    /// one go first in the Prepare phase (serial, before it).
+    void recycleMeshColliders();
+    /// Returns a character's mesh collider to its body's spares (or frees it when they are full).
+    void spareMeshCollider(CharacterInstance& c);
 
     WorldDesc mDesc;
     lod::CostModel mCostModel;

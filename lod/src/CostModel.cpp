@@ -13,28 +13,38 @@ Status CostModel::validate() const {
     for (int k = 0; k < kSolverChoiceCount; ++k)
         if (!std::isfinite(mCoefficients.perVertexMs[k]) || mCoefficients.perVertexMs[k] <= 0.0)
             return Status::invalidArgument("CostModel.perVertexMs[" + std::to_string(k) + "] must be > 0");
+    for (int k = 0; k < kCollisionDetailCount; ++k)
+        if (!(mCoefficients.collisionPerUpdateMs[k] >= 0.0 && mCoefficients.collisionPerVertexMs[k] >= 0.0 &&
+              std::isfinite(mCoefficients.collisionPerUpdateMs[k]) && std::isfinite(mCoefficients.collisionPerVertexMs[k])))
+            return Status::invalidArgument("CostModel.collisionPerUpdateMs and collisionPerVertexMs[" + std::to_string(k) +
+                                           "] must be finite and >= 0");
     if (!(mCoefficients.learningRate > 0.0 && mCoefficients.learningRate <= 1.0))
         return Status::invalidArgument("CostModel.learningRate must be in (0, 1]");
+    if (!(mCoefficients.spread >= 0.0 && mCoefficients.spread <= 10.0))
+        return Status::invalidArgument("CostModel.spread must be in [0, 10]");
     return Status::ok();
 }
 
-double CostModel::formulaMs(SolverChoice solver, std::size_t vertexCount, int substeps, int iterations) const {
-    const int k = static_cast<int>(solver);
-    return mCoefficients.perUpdateMs + double(vertexCount) * mCoefficients.perVertexMs[k] * substeps * iterations;
-}
-
-double CostModel::predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount, int substeps,
+double CostModel::formulaMs(SolverChoice solver, CollisionDetail collision, std::size_t vertexCount, int substeps,
                             int iterations) const {
-    if (mMode == Mode::Learned) {
-        auto it = mLearned.find({asset, level, static_cast<int>(solver)});
-        if (it != mLearned.end()) return it->second.mean + 2.0 * it->second.deviation;
-    }
-    return formulaMs(solver, vertexCount, substeps, iterations);
+    const int k = static_cast<int>(solver), c = static_cast<int>(collision);
+    return mCoefficients.perUpdateMs + double(vertexCount) * mCoefficients.perVertexMs[k] * substeps * iterations +
+           mCoefficients.collisionPerUpdateMs[c] + double(vertexCount) * mCoefficients.collisionPerVertexMs[c];
 }
 
-void CostModel::record(uint32_t asset, int level, SolverChoice solver, double measuredMs) {
+double CostModel::predictMs(uint32_t asset, int level, SolverChoice solver, CollisionDetail collision,
+                            std::size_t vertexCount, int substeps, int iterations) const {
+    if (mMode == Mode::Learned) {
+        auto it = mLearned.find({asset, level, static_cast<int>(solver), static_cast<int>(collision)});
+        if (it != mLearned.end()) return it->second.mean + mCoefficients.spread * it->second.deviation;
+    }
+    return formulaMs(solver, collision, vertexCount, substeps, iterations);
+}
+
+void CostModel::record(uint32_t asset, int level, SolverChoice solver, CollisionDetail collision, double measuredMs) {
     if (mMode != Mode::Learned || !std::isfinite(measuredMs) || measuredMs <= 0.0) return;
-    auto [it, inserted] = mLearned.try_emplace({asset, level, static_cast<int>(solver)}, Learned{measuredMs, 0.0});
+    auto [it, inserted] = mLearned.try_emplace(
+        {asset, level, static_cast<int>(solver), static_cast<int>(collision)}, Learned{measuredMs, 0.0});
     if (inserted) return;
     Learned& l = it->second;
     const double rate = mCoefficients.learningRate;

@@ -33,6 +33,9 @@ Status validateInputs(std::vector<uint64_t>& ids, const SchedulerSettings& setti
             auto at = [&] { return where("profile", p) + " " + where("level", l); };  // on error only
             if (!std::isfinite(level.errorMetres) || level.errorMetres < 0.0)
                 return Status::invalidArgument(at() + ": errorMetres must be finite and >= 0");
+            for (double cost : level.collisionCostMs)
+                if (!std::isfinite(cost) || cost < 0.0)
+                    return Status::invalidArgument(at() + ": collisionCostMs must be finite and >= 0");
             bool offered = false;
             for (double cost : level.costMs) {
                 if (!std::isfinite(cost))
@@ -83,14 +86,16 @@ struct GarmentView {
     bool asleep = false;             ///< unseen and at rest: costs nothing, never changes
     double pixelsPerMetre = 0.0;
     double lagMetresPerFrame2 = 0.0; ///< [m] lag of one extrapolated frame, times frames^2
+    CollisionDetail collision = CollisionDetail::None;
     Choice choice;
 
     int levelCount() const { return static_cast<int>(profile->levels.size()); }
     double stepCost(int level) const {
+        const LevelProfile& l = profile->levels[level];
         double best = 0.0;
-        for (double cost : profile->levels[level].costMs)
+        for (double cost : l.costMs)
             if (cost > 0.0 && (best == 0.0 || cost < best)) best = cost;
-        return best;
+        return best + l.collisionCostMs[static_cast<int>(collision)];
     }
     double cost(const Choice& c) const { return asleep ? 0.0 : stepCost(c.level) / c.interval; }
     double levelErrorPx(int level) const { return profile->levels[level].errorMetres * pixelsPerMetre; }
@@ -132,6 +137,21 @@ Choice toleranceChoice(const GarmentView& g, const SchedulerSettings& s) {
     if (prev.updateInterval >= 1 && prev.updateInterval < c.interval)
         c.interval = std::max(prev.updateInterval, longestIntervalWithin(g, strict, s.maxUpdateInterval));
     return c;
+}
+
+bool atLeast(double value, double threshold, bool wasAbove, double hysteresis) {
+    return value >= (wasAbove ? threshold * (1.0 - hysteresis) : threshold);
+}
+
+/// Asleep: none; unseen or small on screen: the capsules; large: the body mesh, with continuous
+/// tests when the body moves fast (with hysteresis on the size, as the levels have).
+CollisionDetail collisionFor(const GarmentView& g, const SchedulerSettings& s) {
+    if (g.asleep) return CollisionDetail::None;
+    const GarmentRequest& r = *g.request;
+    const bool wasMesh = r.previous.collision >= CollisionDetail::Mesh;
+    if (g.visible && atLeast(r.radius * g.pixelsPerMetre, s.meshCollisionRadiusPx, wasMesh, s.hysteresis))
+        return r.speed >= s.continuousSpeed ? CollisionDetail::MeshContinuous : CollisionDetail::Mesh;
+    return CollisionDetail::Proxies;
 }
 
 /// A candidate change of one garment's choice, ranked by weighted error per millisecond.
@@ -278,9 +298,6 @@ void refineWithSlack(std::vector<GarmentView>& garments, const SchedulerSettings
     }
 }
 
-bool atLeast(double value, double threshold, bool wasAbove, double hysteresis) {
-    return value >= (wasAbove ? threshold * (1.0 - hysteresis) : threshold);
-}
 
 GarmentSchedule finalSchedule(const GarmentView& g, const SchedulerSettings& s) {
     const GarmentRequest& r = *g.request;
@@ -306,10 +323,7 @@ GarmentSchedule finalSchedule(const GarmentView& g, const SchedulerSettings& s) 
     out.updateInterval = g.choice.interval;
     out.predictedCostMs = g.cost(g.choice);
     out.predictedErrorPx = g.errorPx(g.choice);
-    out.collision = CollisionDetail::Proxies;
-    const bool wasMesh = prev.collision >= CollisionDetail::Mesh;
-    if (g.visible && atLeast(out.screenRadiusPx, s.meshCollisionRadiusPx, wasMesh, s.hysteresis))
-        out.collision = r.speed >= s.continuousSpeed ? CollisionDetail::MeshContinuous : CollisionDetail::Mesh;
+    out.collision = g.collision;
     out.selfCollision = g.visible && g.choice.level >= g.levelCount() - 2 &&
                         atLeast(out.screenRadiusPx, s.selfCollisionRadiusPx, prev.selfCollision, s.hysteresis);
     return out;
@@ -395,6 +409,7 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
         // acceleration of the cloth (limbs swinging at the gait frequency).
         g.asleep = !g.visible && r.atRest;
         g.lagMetresPerFrame2 = 0.5 * settings.typicalAcceleration * r.speed * settings.frameDt * settings.frameDt;
+        g.collision = collisionFor(g, settings);
         g.choice = toleranceChoice(g, settings);
     }
     degradeToBudget(garments, settings, w);

@@ -106,6 +106,51 @@ TEST(BodyCollider, ProximityMatchesBruteForceOnRandomMeshesAndAfterRefits) {
     expectMatchesBruteForce(*body, m, probePoints(m, rng, 600, 0.05), query);
 }
 
+TEST(BodyCollider, ASharedTopologyAndAResetToAnotherPoseAnswerAsAFreshCollider) {
+    // A World builds a body's topology once and hands idle colliders to other characters of the
+    // body: a collider on the shared topology, reset from another pose, must answer exactly.
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> noise(-0.002, 0.002);
+    auto device = makeDevice();
+    test::BodyMesh m = test::uvSphere(Vec3(0.0, 1.0, 0.0), 0.15, 12, 18);
+    auto shape = BodyTopology::build(m.triangles, m.positions);
+    ASSERT_TRUE(shape.isOk()) << shape.status().message();
+    EXPECT_EQ(shape.value()->partCount, 1u);
+    auto spare = BodyCollider::create(*device, shape.value(), m.positions).value();
+    auto other = BodyCollider::create(*device, shape.value(), m.positions).value();
+    ContactQuery query;
+    query.thickness = 0.01;
+    query.margin = 0.04;
+    expectMatchesBruteForce(*spare, m, probePoints(m, rng, 400, 0.05), query);
+
+    // Another character's pose (a smooth bend plus noise), then the collider handed over.
+    for (Vec3& p : m.positions)
+        p += Vec3(0.03 * std::sin(4 * p.y()), 0.0, 0.02 * std::cos(6 * p.x())) + Vec3(noise(rng), noise(rng), noise(rng));
+    ASSERT_TRUE(spare->reset(m.positions).isOk());
+    for (const Vec3& v : spare->previousPositions()) ASSERT_TRUE(std::isfinite(v.x()));
+    EXPECT_EQ(spare->currentPositions()[7], m.positions[7]);
+    EXPECT_EQ(spare->previousPositions()[7], m.positions[7]) << "a reset body does not move";
+    expectMatchesBruteForce(*spare, m, probePoints(m, rng, 600, 0.05), query);
+
+    // And the same contacts as a collider made at that pose, bit for bit.
+    auto fresh = BodyCollider::create(*device, m.triangles, m.positions).value();
+    const std::vector<Vec3> points = probePoints(m, rng, 600, 0.05);
+    std::vector<Contact> a, b;
+    ASSERT_TRUE(spare->queryProximity(points, query, a).isOk());
+    ASSERT_TRUE(fresh->queryProximity(points, query, b).isOk());
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a[k].vertex, b[k].vertex);
+        EXPECT_EQ(a[k].point, b[k].point);
+        EXPECT_EQ(a[k].normal, b[k].normal);
+    }
+    EXPECT_EQ(other->triangleCount(), fresh->triangleCount());
+
+    EXPECT_FALSE(BodyCollider::create(*device, std::shared_ptr<const BodyTopology>(), m.positions).isOk());
+    std::vector<Vec3> tooFew(m.positions.begin(), m.positions.end() - 1);
+    EXPECT_FALSE(BodyCollider::create(*device, shape.value(), tooFew).isOk()) << "a pose must fit the topology";
+}
+
 TEST(BodyCollider, PerPointMarginsMatchBruteForce) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -288,7 +333,7 @@ TEST(BodyCollider, BadInputGivesClearErrors) {
     auto device = makeDevice();
     test::BodyMesh m = test::uvSphere(Vec3::Zero(), 0.3, 6, 8);
     {
-        auto r = BodyCollider::create(*device, {}, m.positions);
+        auto r = BodyCollider::create(*device, Span<const std::array<uint32_t, 3>>(), m.positions);
         ASSERT_FALSE(r.isOk());
         EXPECT_NE(r.status().message().find("zero triangles"), std::string::npos) << r.status().message();
     }

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "crowdcloth/lod/CostModel.h"
 
 namespace cc::lod {
@@ -8,35 +10,66 @@ namespace {
 TEST(CostModel, FixedModelIsTheFormulaAndIgnoresMeasurements) {
     CostCoefficients c;
     CostModel model(CostModel::Mode::Fixed, c);
-    const double newton = model.predictMs(0, 2, SolverChoice::SubstepNewton, 1000, 4, 3);
+    const double newton = model.predictMs(0, 2, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 1000, 4, 3);
     EXPECT_DOUBLE_EQ(newton, c.perUpdateMs + 1000 * c.perVertexMs[0] * 4 * 3);
-    EXPECT_DOUBLE_EQ(model.predictMs(0, 2, SolverChoice::SubstepLocalGlobal, 1000, 50, 1),
+    EXPECT_DOUBLE_EQ(model.predictMs(0, 2, SolverChoice::SubstepLocalGlobal, CollisionDetail::Proxies, 1000, 50, 1),
                      c.perUpdateMs + 1000 * c.perVertexMs[1] * 50);
-    model.record(0, 2, SolverChoice::SubstepNewton, 123.0);
-    EXPECT_DOUBLE_EQ(model.predictMs(0, 2, SolverChoice::SubstepNewton, 1000, 4, 3), newton);
+    model.record(0, 2, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 123.0);
+    EXPECT_DOUBLE_EQ(model.predictMs(0, 2, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 1000, 4, 3), newton);
 }
 
 TEST(CostModel, LearnedModelConvergesToMeasuredTimes) {
     CostModel model(CostModel::Mode::Learned);
-    for (int i = 0; i < 200; ++i) model.record(3, 1, SolverChoice::SubstepNewton, 2.5);
-    EXPECT_NEAR(model.predictMs(3, 1, SolverChoice::SubstepNewton, 10, 1, 1), 2.5, 1e-9);
-    model.record(3, 1, SolverChoice::SubstepNewton, std::nan(""));
-    model.record(3, 1, SolverChoice::SubstepNewton, -1.0);
-    EXPECT_NEAR(model.predictMs(3, 1, SolverChoice::SubstepNewton, 10, 1, 1), 2.5, 1e-9) << "bad samples ignored";
-    EXPECT_NE(model.predictMs(3, 2, SolverChoice::SubstepNewton, 10, 1, 1), 2.5) << "other levels keep their seed";
+    for (int i = 0; i < 200; ++i) model.record(3, 1, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 2.5);
+    EXPECT_NEAR(model.predictMs(3, 1, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 10, 1, 1), 2.5, 1e-9);
+    model.record(3, 1, SolverChoice::SubstepNewton, CollisionDetail::Proxies, std::nan(""));
+    model.record(3, 1, SolverChoice::SubstepNewton, CollisionDetail::Proxies, -1.0);
+    EXPECT_NEAR(model.predictMs(3, 1, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 10, 1, 1), 2.5, 1e-9) << "bad samples ignored";
+    EXPECT_NE(model.predictMs(3, 2, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 10, 1, 1), 2.5) << "other levels keep their seed";
 }
 
 TEST(CostModel, LearnedModelPlansForTheSpread) {
+    // Alternating 1 ms and 3 ms updates: mean 2, mean absolute deviation 1 -> mean + spread x 1.
+    for (double spread : {0.0, 0.5, 2.0}) {
+        CostCoefficients c;
+        c.spread = spread;
+        CostModel model(CostModel::Mode::Learned, c);
+        for (int i = 0; i < 400; ++i)
+            model.record(0, 0, SolverChoice::SubstepNewton, CollisionDetail::Proxies, i % 2 ? 3.0 : 1.0);
+        EXPECT_NEAR(model.predictMs(0, 0, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 10, 1, 1),
+                    2.0 + spread, 0.25) << "spread " << spread;
+    }
+}
+
+TEST(CostModel, EachCollisionDetailLearnsItsOwnCost) {
+    // Near garments meeting the body mesh cost far more than far ones on capsules: learned apart,
+    // neither moves the other's prediction.
     CostModel model(CostModel::Mode::Learned);
-    // Alternating 1 ms and 3 ms updates: mean 2, mean absolute deviation 1 -> predicts ~4 ms.
-    for (int i = 0; i < 400; ++i) model.record(0, 0, SolverChoice::SubstepNewton, i % 2 ? 3.0 : 1.0);
-    EXPECT_NEAR(model.predictMs(0, 0, SolverChoice::SubstepNewton, 10, 1, 1), 4.0, 0.25);
+    for (int i = 0; i < 200; ++i) {
+        model.record(1, 2, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 0.07);
+        if (i % 50 == 0) model.record(1, 2, SolverChoice::SubstepNewton, CollisionDetail::MeshContinuous, 2.1);
+    }
+    EXPECT_NEAR(model.predictMs(1, 2, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 100, 2, 2), 0.07, 1e-9);
+    EXPECT_NEAR(model.predictMs(1, 2, SolverChoice::SubstepNewton, CollisionDetail::MeshContinuous, 100, 2, 2), 2.1,
+                1e-9);
+    // Unmeasured, the mesh is seeded above the capsules by the collision coefficients.
+    CostCoefficients c;
+    CostModel fixed(CostModel::Mode::Fixed, c);
+    const double proxies = fixed.predictMs(0, 0, SolverChoice::SubstepNewton, CollisionDetail::Proxies, 100, 1, 1);
+    EXPECT_DOUBLE_EQ(fixed.predictMs(0, 0, SolverChoice::SubstepNewton, CollisionDetail::Mesh, 100, 1, 1),
+                     proxies + c.collisionPerUpdateMs[2] + 100 * c.collisionPerVertexMs[2]);
 }
 
 TEST(CostModel, ValidateNamesTheField) {
     CostCoefficients c;
     c.learningRate = 0.0;
     EXPECT_NE(CostModel(CostModel::Mode::Learned, c).validate().message().find("learningRate"), std::string::npos);
+    c = CostCoefficients{};
+    c.spread = -1.0;
+    EXPECT_NE(CostModel(CostModel::Mode::Learned, c).validate().message().find("spread"), std::string::npos);
+    c = CostCoefficients{};
+    c.collisionPerVertexMs[3] = std::nan("");
+    EXPECT_NE(CostModel(CostModel::Mode::Learned, c).validate().message().find("collisionPer"), std::string::npos);
 }
 
 } // namespace

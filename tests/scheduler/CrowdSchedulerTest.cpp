@@ -235,6 +235,41 @@ TEST(CrowdScheduler, CollisionDetailFollowsScreenSizeAndSpeed) {
     EXPECT_FALSE(out[2].selfCollision);
 }
 
+TEST(CrowdScheduler, CountsTheCollisionDetailsCostInTheBudget) {
+    // The same near garment, with and without a body-mesh cost on top of its solve: its predicted
+    // cost carries the mesh's, and under one budget the crowd around it gets coarser to pay for it.
+    GarmentProfile meshCosts = fiveLevels();
+    for (LevelProfile& level : meshCosts.levels) {
+        level.collisionCostMs[int(CollisionDetail::Mesh)] = 0.5;
+        level.collisionCostMs[int(CollisionDetail::MeshContinuous)] = 1.0;
+    }
+    std::vector<GarmentRequest> requests = {garmentAt(0, 1.5, 3.0)};
+    for (int i = 1; i < 40; ++i) requests.push_back(garmentAt(i, 4.0 + i, 1.0));
+    const auto plain = schedule(unlimited(), requests);
+    const auto costly = schedule(unlimited(), requests, meshCosts);
+    ASSERT_EQ(costly[0].collision, CollisionDetail::MeshContinuous);
+    const double solve = fiveLevels().levels[costly[0].level].costMs[0];
+    EXPECT_DOUBLE_EQ(costly[0].predictedCostMs * costly[0].updateInterval, solve + 1.0);
+    for (std::size_t i = 1; i < requests.size(); ++i)
+        if (costly[i].collision == CollisionDetail::Proxies)
+            EXPECT_DOUBLE_EQ(costly[i].predictedCostMs, plain[i].predictedCostMs) << "capsules add nothing";
+
+    double plainCost = 0.0;
+    for (const auto& s : plain) plainCost += s.predictedCostMs;
+    SchedulerSettings settings = unlimited();
+    settings.budgetMs = plainCost;  // fits the plain crowd exactly, not the one with the mesh's cost
+    const auto cheap = schedule(settings, requests), tight = schedule(settings, requests, meshCosts);
+    double cost = 0.0, cheapError = 0.0, tightError = 0.0;
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+        cost += tight[i].predictedCostMs;
+        cheapError += cheap[i].predictedErrorPx;
+        tightError += tight[i].predictedErrorPx;
+    }
+    EXPECT_LE(cost, settings.budgetMs * (1 + 1e-12));
+    EXPECT_GT(tightError, cheapError) << "the mesh's cost is paid for with accuracy elsewhere";
+
+}
+
 TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     const SchedulerCamera camera = cameraAtOrigin();
     const GarmentProfile profile = fiveLevels();
@@ -259,6 +294,10 @@ TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     GarmentProfile noSolver = fiveLevels();
     noSolver.levels[2].costMs[0] = noSolver.levels[2].costMs[1] = 0.0;
     EXPECT_NE(run({garmentAt(1, 1.0)}, {}, noSolver).message().find("profile 0 level 2 offers no solver"),
+              std::string::npos);
+    GarmentProfile negative = fiveLevels();
+    negative.levels[1].collisionCostMs[int(CollisionDetail::Mesh)] = -1.0;
+    EXPECT_NE(run({garmentAt(1, 1.0)}, {}, negative).message().find("profile 0 level 1: collisionCostMs"),
               std::string::npos);
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "crowdcloth/collision/BodyTopology.h"
 #include "crowdcloth/collision/CollisionDevice.h"
 #include "crowdcloth/collision/Collider.h"
 #include "crowdcloth/collision/ContactQuery.h"
@@ -54,9 +55,15 @@ struct BodyColliderStats {
 ///   body->queryProximity(cloth.positions, query, contacts);
 class BodyCollider final : public Collider {
 public:
-    /// `triangles` index `positions` (the initial pose, which is also the previous pose).
+    /// `triangles` index `positions` (the initial pose, which is also the previous pose; also the
+    /// pose its vertices are welded in, see BodyTopology).
     static Result<std::unique_ptr<BodyCollider>> create(CollisionDevice& device,
                                                         Span<const std::array<uint32_t, 3>> triangles,
+                                                        Span<const Vec3> positions,
+                                                        const BodyColliderSettings& settings = {});
+    /// The same on a body's shared topology (built once per body asset).
+    static Result<std::unique_ptr<BodyCollider>> create(CollisionDevice& device,
+                                                        std::shared_ptr<const BodyTopology> shape,
                                                         Span<const Vec3> positions,
                                                         const BodyColliderSettings& settings = {});
     ~BodyCollider();
@@ -67,7 +74,8 @@ public:
     /// surface velocities are (current - previous) / dt, and the BVH is refit (or rebuilt).
     /// On error (wrong count, non-finite vertex, bad dt) nothing changes.
     Status update(Span<const Vec3> positions, double dt);
-    /// Teleports the body: previous = current = positions, zero velocity, full rebuild.
+    /// Teleports the body: previous = current = positions, zero velocity; the trees are refit, or
+    /// rebuilt when the pose is far from the one they were built on (as in update()).
     Status reset(Span<const Vec3> positions);
 
     /// For every point within query.reach(i) of the current surface: the closest surface point,

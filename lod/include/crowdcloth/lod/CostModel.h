@@ -15,16 +15,26 @@ struct CostCoefficients {
     double perVertexMs[kSolverChoiceCount] = {
         8.0e-5,  ///< Newton, per vertex, substep and CG iteration (measured: 80 ns at 65^2, alone)
         7.0e-5}; ///< local/global, per vertex, substep and iteration (measured: 70 ns at 65^2)
+    /// [ms] fixed and per-vertex cost a collision detail adds to an update (seeds: body-mesh
+    /// queries and refits, measured on the 5,776-triangle mannequin; capsules are in the above)
+    double collisionPerUpdateMs[kCollisionDetailCount] = {0.0, 0.0, 0.5, 0.5};
+    double collisionPerVertexMs[kCollisionDetailCount] = {0.0, 0.0, 5e-3, 1.2e-2};
     double learningRate = 0.1;  ///< [-] weight of a new measurement in the average; (0, 1]
+    double spread = 0.5;        ///< [-] learned prediction = mean + spread x mean absolute deviation; [0, 10]
 };
 
 /// Predicted cost of one garment update, fixed or learned from measurements.
 ///
-/// Fixed: `perUpdateMs + vertices * perVertexMs[solver] * substeps * iterations`, deterministic, for tests and
+/// Fixed: `perUpdateMs + vertices * perVertexMs[solver] * substeps * iterations`, plus the collision
+/// detail's `collisionPerUpdateMs + vertices * collisionPerVertexMs`, deterministic, for tests and
 /// reproducible runs. Learned (the default for real use): the same formula seeds each (asset,
-/// level, solver) entry, then exponential moving averages of the measured time and of its absolute
-/// deviation replace it, and the prediction is mean + 2 deviations: a frame's worst case is set by
-/// the updates that split their step, not by the average one.
+/// level, solver, collision detail) entry, then exponential moving averages of the measured time
+/// and of its absolute deviation replace it. The collision detail is part of the key because it
+/// changes an update's cost 10-30x: keyed without it, the rare mesh updates of near garments
+/// inflate the prediction of every far one (5x at level 2 in a 1000-character crowd) and are
+/// themselves under-predicted 4x. The prediction is mean + `spread` deviations: a frame's budget
+/// is a sum over hundreds of updates whose deviations mostly cancel (mean + 2 deviations summed
+/// predicted 18 ms for 14.7 measured), while a little margin covers the updates that split steps.
 class CostModel {
 public:
     enum class Mode { Fixed, Learned };
@@ -34,14 +44,16 @@ public:
     Status validate() const;
     Mode mode() const { return mMode; }
 
-    /// [ms] one update of `vertexCount` vertices at `substeps` x `iterations` with `solver`.
-    double predictMs(uint32_t asset, int level, SolverChoice solver, std::size_t vertexCount, int substeps,
-                     int iterations) const;
+    /// [ms] one update of `vertexCount` vertices at `substeps` x `iterations` with `solver`,
+    /// meeting the body with `collision`.
+    double predictMs(uint32_t asset, int level, SolverChoice solver, CollisionDetail collision,
+                     std::size_t vertexCount, int substeps, int iterations) const;
     /// Feeds a measured update time [ms] (ignored in Fixed mode, and when not finite or <= 0).
-    void record(uint32_t asset, int level, SolverChoice solver, double measuredMs);
+    void record(uint32_t asset, int level, SolverChoice solver, CollisionDetail collision, double measuredMs);
 
 private:
-    double formulaMs(SolverChoice solver, std::size_t vertexCount, int substeps, int iterations) const;
+    double formulaMs(SolverChoice solver, CollisionDetail collision, std::size_t vertexCount, int substeps,
+                     int iterations) const;
 
     Mode mMode;
     CostCoefficients mCoefficients;
@@ -49,7 +61,7 @@ private:
         double mean = 0.0;       ///< [ms]
         double deviation = 0.0;  ///< [ms] mean absolute deviation
     };
-    std::map<std::tuple<uint32_t, int, int>, Learned> mLearned;
+    std::map<std::tuple<uint32_t, int, int, int>, Learned> mLearned;  ///< asset, level, solver, collision
 };
 
 } // namespace cc::lod

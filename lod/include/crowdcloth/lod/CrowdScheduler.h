@@ -30,6 +30,7 @@ enum class CollisionDetail : uint8_t {
     Mesh = 2,            ///< the skinned body mesh, proximity only
     MeshContinuous = 3,  ///< the skinned body mesh with continuous tests for fast limbs
 };
+constexpr int kCollisionDetailCount = 4;
 
 /// What one cooked garment asset offers at one level (shared by every instance of the asset).
 struct LevelProfile {
@@ -37,6 +38,9 @@ struct LevelProfile {
                                ///< (e.g. p95 vertex distance of the drape); >= 0, finest = 0
     double costMs[kSolverChoiceCount] = {0.0, 0.0}; ///< [ms] one update per solver; <= 0 means the
                                                     ///< solver is not offered here
+    double collisionCostMs[kCollisionDetailCount] = {0.0, 0.0, 0.0, 0.0}; ///< [ms] added to one
+                               ///< update by each collision detail (mesh queries and continuous tests
+                               ///< cost 10-30x the capsules a solver cost is measured with); >= 0
     int substeps = 4;          ///< [-] solver substeps per update; >= 1
     int iterations = 4;        ///< [-] solver iterations per substep; >= 1
 };
@@ -101,6 +105,8 @@ struct SchedulerSettings {
 /// 2. seen ones take the coarsest level and slowest rate whose predicted screen error stays under
 ///    the tolerance (with hysteresis against last frame's choice, so a still camera at a threshold
 ///    never makes a garment flicker);
+///    each garment's collision detail follows from its size on screen and its body's speed, and
+///    its cost is counted in every choice;
 /// 3. over budget, degrade where the least importance-weighted error per millisecond is lost;
 ///    with slack, refine where the most is gained (up to budget * (1 - hysteresis), so a cost that
 ///    jitters around the budget cannot flip a garment back and forth).
