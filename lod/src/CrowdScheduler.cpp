@@ -154,6 +154,18 @@ CollisionDetail collisionFor(const GarmentView& g, const SchedulerSettings& s) {
     return CollisionDetail::Proxies;
 }
 
+/// With slack spent, a seen garment starts from last frame's choice where that was finer than the
+/// tolerance needs: the budget then moves garments only when the total leaves the band between
+/// budget * (1 - slackHeadroom) and the budget. Rebuilt from the tolerance every frame instead, the
+/// refined set followed every wobble of the costs and the budget: 17 % of a 1000-garment crowd's
+/// updates switched level, half of them back and forth.
+void keepSpentSlack(GarmentView& g) {
+    const GarmentSchedule& prev = g.request->previous;
+    if (!g.visible || prev.level < 0 || prev.level >= g.levelCount() || prev.updateInterval < 1) return;
+    g.choice.level = std::max(g.choice.level, prev.level);
+    g.choice.interval = std::min(g.choice.interval, prev.updateInterval);
+}
+
 /// A candidate change of one garment's choice, ranked by weighted error per millisecond.
 struct Move {
     double ratio = 0.0;
@@ -273,7 +285,7 @@ void degradeToBudget(std::vector<GarmentView>& garments, const SchedulerSettings
 }
 
 void refineWithSlack(std::vector<GarmentView>& garments, const SchedulerSettings& s, SchedulerWorkspace::Buffers& w) {
-    const double ceiling = s.budgetMs * (1.0 - s.hysteresis);
+    const double ceiling = s.budgetMs * (1.0 - s.slackHeadroom);
     double total = totalCost(garments);
     if (total >= ceiling) return;
     std::vector<int>& versions = w.versions;
@@ -337,6 +349,8 @@ Status SchedulerSettings::validate() const {
         return Status::invalidArgument("SchedulerSettings.pixelTolerance must be > 0");
     if (!(hysteresis >= 0.0 && hysteresis < 1.0))
         return Status::invalidArgument("SchedulerSettings.hysteresis must be in [0, 1)");
+    if (!(slackHeadroom >= 0.0 && slackHeadroom < 1.0))
+        return Status::invalidArgument("SchedulerSettings.slackHeadroom must be in [0, 1)");
     if (!finitePositive(frameDt)) return Status::invalidArgument("SchedulerSettings.frameDt must be > 0");
     if (!std::isfinite(typicalAcceleration) || typicalAcceleration < 0.0)
         return Status::invalidArgument("SchedulerSettings.typicalAcceleration must be finite and >= 0");
@@ -411,6 +425,7 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
         g.lagMetresPerFrame2 = 0.5 * settings.typicalAcceleration * r.speed * settings.frameDt * settings.frameDt;
         g.collision = collisionFor(g, settings);
         g.choice = toleranceChoice(g, settings);
+        if (settings.refineWithSlack) keepSpentSlack(g);
     }
     degradeToBudget(garments, settings, w);
     if (settings.refineWithSlack) refineWithSlack(garments, settings, w);

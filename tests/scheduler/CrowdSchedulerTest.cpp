@@ -149,7 +149,7 @@ TEST(CrowdScheduler, SpendsSlackOnTheLargestGains) {
         EXPECT_LE(out[i].predictedErrorPx, base[i].predictedErrorPx);
         cost += out[i].predictedCostMs;
     }
-    EXPECT_LE(cost, settings.budgetMs * (1.0 - settings.hysteresis));
+    EXPECT_LE(cost, settings.budgetMs * (1.0 - settings.slackHeadroom));
     EXPECT_EQ(out.back().level, 4) << "plenty of budget: even the farthest garment is finest";
 }
 

@@ -90,6 +90,10 @@ struct SchedulerSettings {
                                         ///< to predict the lag of extrapolated frames; >= 0
     int maxUpdateInterval = 8;          ///< [frames] power of two in [1, 64]
     bool refineWithSlack = true;        ///< spend budget left over on the largest error gains
+    double slackHeadroom = 0.1;         ///< [-] spending slack stops this fraction under the budget,
+                                        ///< so a cost that jitters around it cannot flip a garment
+                                        ///< back and forth (measured costs jitter by a few percent
+                                        ///< summed over a frame's hundreds of updates); [0, 1)
     double meshCollisionRadiusPx = 40.0;  ///< [px] at or above: collide with the body mesh; >= 0
     double continuousSpeed = 1.5;       ///< [m/s] at or above (with mesh collision): continuous tests
     double selfCollisionRadiusPx = 250.0; ///< [px] at or above (finest two levels): self-collision
@@ -104,12 +108,12 @@ struct SchedulerSettings {
 /// 1. unseen garments take the coarsest level at the slowest rate, or sleep when at rest;
 /// 2. seen ones take the coarsest level and slowest rate whose predicted screen error stays under
 ///    the tolerance (with hysteresis against last frame's choice, so a still camera at a threshold
-///    never makes a garment flicker);
-///    each garment's collision detail follows from its size on screen and its body's speed, and
-///    its cost is counted in every choice;
+///    never makes a garment flicker); with slack spent (refineWithSlack), a seen garment keeps
+///    last frame's finer choice as its start. Each garment's collision detail follows from its
+///    size on screen and its body's speed, and its cost is counted in every choice;
 /// 3. over budget, degrade where the least importance-weighted error per millisecond is lost;
-///    with slack, refine where the most is gained (up to budget * (1 - hysteresis), so a cost that
-///    jitters around the budget cannot flip a garment back and forth).
+///    with slack, refine where the most is gained up to budget * (1 - slackHeadroom). Between the
+///    two nothing moves: a cost that jitters around the budget cannot flip a garment back and forth.
 /// Ties are broken by id. `outSchedules[i]` answers `requests[i]`.
 Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
                         Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
