@@ -46,6 +46,7 @@ struct CharacterInstance {
     std::unique_ptr<collision::BodyCollider> meshCollider;
     collision::CapsuleCollider proxyCollider;
     bool proxyColliderMade = false;
+    bool meshColliderBuildFailed = false;  ///< a deferred build failed: build when needed (errors surface)
     BodyId bodyId{};  ///< the body record whose spare colliders this character's collider returns to
     std::shared_ptr<const collision::BodyTopology> bodyTopology;  ///< the body's, shared by its colliders
 

@@ -73,7 +73,7 @@ constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this
 /// in and out of the camera's near field at once.
 constexpr double kColliderIdleSeconds = 1.0;
 constexpr std::size_t kMaxSpareColliders = 8;
-constexpr std::size_t kPrebuiltColliders = 2;
+constexpr std::size_t kPrebuiltColliders = 4;
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
@@ -552,10 +552,12 @@ void WorldImpl::recycleMeshColliders() {
                           (detail != lod::CollisionDetail::Proxies || c.body->hostSkinned);
         return mesh && !c.meshCollider;
     };
-    // A new collider costs 7-20 ms (Embree's first build of fresh scenes), a spare's reset 0.5: at
-    // most one is built per frame, and the other garments that would need one keep their capsules
-    // for the frame (host-skinned bodies have none: theirs are built).
-    const CharacterInstance* building = nullptr;
+    // A new collider costs 7-20 ms (Embree's first build of fresh scenes), a spare's reset 0.5.
+    // Without a spare, the character's garments keep their capsules this frame and one collider
+    // a frame is built beside the solver batches (a task of the Simulate phase), ready for the
+    // next. Host-skinned bodies have no capsules: theirs are built when needed; so is one whose
+    // deferred build failed (its garments then report the error).
+    mColliderBuilds.clear();
     for (std::size_t i : mUpdates) {
         if (!needsBuild(i)) continue;
         CharacterInstance& c = *mItems[i].character;
@@ -563,23 +565,27 @@ void WorldImpl::recycleMeshColliders() {
         if (record && !record->spareColliders.empty()) {
             c.adoptMeshCollider(std::move(record->spareColliders.back()));
             record->spareColliders.pop_back();
-        } else if (!building || building == &c || c.body->hostSkinned) {
-            if (!c.body->hostSkinned) building = &c;
-        } else {
+        } else if (!c.body->hostSkinned && !c.meshColliderBuildFailed) {
             mItems[i].garment->schedule.collision = lod::CollisionDetail::Proxies;
+            if (mColliderBuilds.empty()) mColliderBuilds.push_back(&c);
         }
     }
-    // A build is the longest task of its frame: started first, the other threads work meanwhile.
-    // (In place: there are few, and std::stable_partition would allocate.)
+    // A build left in this phase is its longest task: started first, the other threads work
+    // meanwhile. (In place: there are few, and std::stable_partition would allocate.)
     std::size_t first = 0;
     for (std::size_t j = 0; j < mUpdates.size(); ++j)
         if (needsBuild(mUpdates[j])) std::rotate(mUpdates.begin() + first++, mUpdates.begin() + j, mUpdates.begin() + j + 1);
 }
 
+void WorldImpl::buildMeshCollider(CharacterInstance& c) {
+    // Its garments use their capsules this frame: the collider is only made, at this frame's pose.
+    c.meshColliderBuildFailed = !c.meshColliderAt(*mDevice, mTime, 0.0).isOk();
+}
+
 uint32_t WorldImpl::stepTaskCount() const {
     switch (mStepPhase) {
     case StepPhase::Prepare: return uint32_t(mUpdates.size());
-    case StepPhase::Simulate: return uint32_t(mBatchCount);
+    case StepPhase::Simulate: return uint32_t(mColliderBuilds.size() + mBatchCount);
     default: return 0;
     }
 }
@@ -595,7 +601,11 @@ Status WorldImpl::runStepTask(uint32_t index) {
         prepareGarment(mItems[mUpdates[index]]);
     } else {
         // 4. Simulate, in parallel over batches (see nextStepPhase).
-        simulateBatch(mBatches[index]);
+        // Collider builds first: the longest tasks, overlapped by the batches on the other threads.
+        if (index < mColliderBuilds.size())
+            buildMeshCollider(*mColliderBuilds[index]);
+        else
+            simulateBatch(mBatches[index - mColliderBuilds.size()]);
     }
     return Status::ok();
 }

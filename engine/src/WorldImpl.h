@@ -108,6 +108,8 @@ private:
     /// frame's updates that need one take a spare before one is built; updates that still build
     /// one go first in the Prepare phase (serial, before it).
     void recycleMeshColliders();
+    /// A Simulate-phase task: the mesh collider a character will need from the next frame on.
+    void buildMeshCollider(CharacterInstance& c);
     /// Returns a character's mesh collider to its body's spares (or frees it when they are full).
     void spareMeshCollider(CharacterInstance& c);
 
@@ -139,6 +141,7 @@ private:
     std::unique_ptr<TaskPool> mPool;  ///< the frame's workers when the host hands in no task runner
     std::vector<std::size_t> mWork;          ///< items updated or seen this frame
     std::vector<std::size_t> mUpdates;       ///< items updated this frame
+    std::vector<CharacterInstance*> mColliderBuilds;  ///< mesh colliders built this frame (Simulate)
     std::vector<Batch> mBatches;             ///< this frame's solver batches (storage kept)
     struct BatchKey {
         uint32_t asset;
