@@ -32,7 +32,9 @@ built=$(date +%s)
 # ASan (measured: Drape.SheetComesToRest... 205 s), which alone would double this run.
 slow_under_asan='^(Drape\.SheetComesToRestOnASphereMeshNoDeeperThanTheThickness|FastCollider\.(Capsule|MeshBody)SweptIntoASheetNeverPassesThroughWithContinuousCollision)$'
 status=0
-ctest --test-dir build-asan --output-on-failure --timeout 900 -L fast -E "$slow_under_asan" || status=$?
+# One test process per core, OpenMP workers sleeping when idle (see run-tests.sh).
+OMP_WAIT_POLICY=passive ctest --test-dir build-asan --output-on-failure --timeout 900 -j "$(nproc)" -L fast \
+    -E "$slow_under_asan" || status=$?
 done_=$(date +%s)
 echo "run-sanitizers: build $((built - start)) s, fast tests $((done_ - built)) s (ASan + UBSan + LSan)"
 exit "$status"
