@@ -72,6 +72,7 @@ struct BodyCollider::Impl {
     void computeNormals();
     Status buildScenes();
     void recordBuild();  // the pose the trees were built on
+    void commitMesh();   // the current pose into the mesh tree
     void writeVertexBuffer();
     Status refit();
     Vec3 pseudonormal(uint32_t t, Feature f) const;
@@ -187,10 +188,7 @@ Status BodyCollider::Impl::buildScenes() {
     if (scene) {
         // Rebuilt in place: Embree's fresh scenes cost 5-7 ms on the 5,776-triangle mannequin
         // (their memory allocated and faulted in anew), a rebuild of the existing ones 0.5.
-        writeVertexBuffer();
-        rtcUpdateGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0);
-        rtcCommitGeometry(mesh);  // low quality: a commit rebuilds this tree
-        rtcCommitScene(scene);
+        commitMesh();
         rtcSetGeometryBuildQuality(sweptGeometry, RTC_BUILD_QUALITY_LOW);  // a rebuild, once
         rtcCommitGeometry(sweptGeometry);
         rtcCommitScene(swept);
@@ -245,6 +243,15 @@ Status BodyCollider::Impl::buildScenes() {
     return device->takeError();
 }
 
+void BodyCollider::Impl::commitMesh() {
+    // The refit workflow (ECOSYSTEM.md pitfall 3): write, mark updated, commit geometry and scene.
+    // The mesh is low quality: a commit rebuilds its tree in place.
+    writeVertexBuffer();
+    rtcUpdateGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(mesh);
+    rtcCommitScene(scene);
+}
+
 void BodyCollider::Impl::recordBuild() {
     buildPose = current;
     Eigen::AlignedBox3d box;
@@ -260,11 +267,7 @@ Status BodyCollider::Impl::refit() {
     if (moved > settings.rebuildFraction * buildDiagonal) return buildScenes();
 
     detail::ScopedFlushDenormals ftz;
-    // The refit workflow (ECOSYSTEM.md pitfall 3): write, mark updated, commit geometry and scene.
-    writeVertexBuffer();
-    rtcUpdateGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0);
-    rtcCommitGeometry(mesh);
-    rtcCommitScene(scene);
+    commitMesh();
     // The swept boxes follow the same motion; their tree is refit when a continuous query asks.
     sweptCurrent = false;
     ++stats.refits;
@@ -340,7 +343,7 @@ Status BodyCollider::reset(Span<const Vec3> positions) {
     m.computeNormals();
     // The trees are refit unless the pose moved far from the one they were built on, as in an
     // update: positions are in the body's own frame, so a teleported body, or a collider handed to
-    // another character of the same body, is in a similar pose (a rebuild costs 10x a refit).
+    // another character of the same body, is in a similar pose.
     return m.refit();
 }
 

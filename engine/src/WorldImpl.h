@@ -104,9 +104,9 @@ private:
     /// One batch: the shared solve, then each garment's corrections and render mesh.
     void simulateBatch(Batch& batch);
     void fail(GarmentInstance& g, const Status& status);
-    /// Mesh colliders follow the camera: idle ones go back to their body's spares, and this
-    /// frame's updates that need one take a spare before one is built; updates that still build
-    /// one go first in the Prepare phase (serial, before it).
+    /// Mesh colliders follow the camera: idle ones go back to their body's spares; this frame's
+    /// updates that need one take a spare, or keep their capsules while one is built in the
+    /// Simulate phase (host-skinned bodies build theirs first thing in the Prepare phase). Serial.
     void recycleMeshColliders();
     /// A Simulate-phase task: the mesh collider a character will need from the next frame on.
     void buildMeshCollider(CharacterInstance& c);

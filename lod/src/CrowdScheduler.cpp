@@ -310,7 +310,6 @@ void refineWithSlack(std::vector<GarmentView>& garments, const SchedulerSettings
     }
 }
 
-
 GarmentSchedule finalSchedule(const GarmentView& g, const SchedulerSettings& s) {
     const GarmentRequest& r = *g.request;
     const GarmentSchedule& prev = r.previous;
