@@ -311,7 +311,7 @@ private:
         }
 
         if (newton) {
-            newtonStep(x, mass, h2);
+            newtonStep(x, mass, h2, mSettings.warmStart && s > 0);
         } else {
             double* b = mW.solution.data();
             for (int it = 0; it < mSettings.iterations; ++it) {
@@ -518,9 +518,10 @@ private:
     };
 
     // One Newton step from the prediction (in x): (M / h^2 + H) d = f(x), x += d, by `iterations`
-    // CG iterations preconditioned with the shared factor, from d = 0. Per lane scalars, so lanes
-    // never mix; a lane whose residual vanishes stops moving (alpha = 0).
-    void newtonStep(double* x, const std::vector<double>& mass, double h2) {
+    // CG iterations preconditioned with the shared factor, from d = 0 or (warm) from the line
+    // search's multiple of the last correction. Per lane scalars, so lanes never mix; a lane whose
+    // residual vanishes stops moving (alpha = 0).
+    void newtonStep(double* x, const std::vector<double>& mass, double h2, bool warm) {
         const uint32_t free = mLevel.freeNodeCount();
         const std::size_t size = std::size_t(free) * kRow;
         mGroupCount = 0;
@@ -548,6 +549,25 @@ private:
             const Group& g = mGroups[k];
             springForces(*g.springs, x, r, frames, g.bothFree);
             frames += g.springs->size() * 5 * W;
+        }
+        if (warm) {
+            // Line search along the last substep's correction w: alpha = r.w / w.Aw minimises the
+            // step's quadratic model along w, so the start is never worse than d = 0 in the energy
+            // norm. Starting at w itself diverges at 4+ substeps when CG is cut short: an error the
+            // few iterations leave is fed back each substep (measured on the solver front).
+            const double* w = mW.lastCorrection.data();
+            systemProduct(w, q, mass, h2);
+            double rw[W], wq[W], a[W];
+            dot(r, w, rw);
+            dot(w, q, wq);
+            for (int l = 0; l < W; ++l) a[l] = wq[l] > 0.0 && rw[l] > 0.0 ? rw[l] / wq[l] : 0.0;
+            for (std::size_t o = 0; o < size; o += kRow)
+                for (int c = 0; c < 3; ++c)
+                    for (int l = 0; l < W; ++l) {
+                        const std::size_t i = o + c * W + l;
+                        d[i] = a[l] * w[i];
+                        r[i] -= a[l] * q[i];
+                    }
         }
         auto precondition = [&] {
             std::copy(r, r + size, z);
@@ -581,6 +601,7 @@ private:
                     }
         }
         for (std::size_t i = 0; i < size; ++i) x[i] += d[i];
+        if (mSettings.warmStart) std::swap(mW.correction, mW.lastCorrection);
     }
 
     // Provot's strain limit after the step, tethers first (see StrainLimiter); nodes flagged in

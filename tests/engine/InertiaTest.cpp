@@ -84,10 +84,10 @@ struct Swing {
 /// A straight cape on a standing mannequin carried along `path`; the lower half's direction (from
 /// the band at mid-length to the hem) averaged over the last `window` seconds of `seconds`.
 Swing swingAlong(const RootPath& path, double inertiaScale, double seconds, double window,
-                 const Vec3& gravity = Vec3(0.0, -kG, 0.0)) {
+                 uint32_t substeps = WorldDesc{}.substeps) {
     WorldDesc wd;
     wd.fixedCostModel = true;
-    for (int c = 0; c < 3; ++c) wd.gravity[c] = gravity[c];
+    wd.substeps = substeps;
     WorldPtr world(World::create(wd).value());
     ClothAssetDesc cape;
     cape.cut = GarmentCut::Straight;
@@ -166,9 +166,13 @@ double degrees(double radians) { return radians * 180.0 / kPi; }
 // The tolerances below are that spread; a sign or factor slip in a frame force is far outside.
 
 TEST(Inertia, ClothOnABodyAcceleratingAtConstantRateHangsAtTheClosedFormAngle) {
-    const Swing standing = swingAlong(Accelerating(0.0), 1.0, 8.0, 2.0);
+    // At 16 substeps: the default 4 substeps x 4 CG iterations hold the cape 2-9 deg short of the
+    // closed form under this steady pull (measured 23 / 36 / 47 deg for 30 / 45 / 52 deg; 16
+    // iterations or 16 substeps 31 / 46 / 49 and 32 / 47 / 53): the truncated solve, not the force.
+    constexpr uint32_t kSubsteps = 16;
+    const Swing standing = swingAlong(Accelerating(0.0), 1.0, 8.0, 2.0, kSubsteps);
     for (double ratio : {kTan30, 1.0, 1.3}) {
-        const Swing swing = swingAlong(Accelerating(kG * ratio), 1.0, 8.0, 2.0);
+        const Swing swing = swingAlong(Accelerating(kG * ratio), 1.0, 8.0, 2.0, kSubsteps);
         EXPECT_NEAR(degrees(swing.meanAngle), degrees(std::atan(ratio)), 7.0) << "a / g = " << ratio;
         EXPECT_NEAR(degrees(swing.sidewaysAngle), 0.0, 6.0) << "a / g = " << ratio;
         EXPECT_GT(degrees(swing.meanAngle - standing.meanAngle), 10.0) << "clear of the back it rests on";
