@@ -271,6 +271,11 @@ cc_status cc_world_set_character_root(cc_world* w, cc_character_id c, const doub
     return guarded(w, [&] { return report(w, w->world->setCharacterRoot(c, position, yaw)); });
 }
 
+cc_status cc_world_set_character_playback_rate(cc_world* w, cc_character_id c, double playback_rate) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->setCharacterPlaybackRate(c, playback_rate)); });
+}
+
 cc_status cc_world_set_character_skinned_vertices(cc_world* w, cc_character_id c, const float* positions,
                                                   uint32_t vertex_count, uint32_t stride_bytes) {
     CC_CHECK_WORLD(w);

@@ -51,6 +51,9 @@ Status World::removeCharacter(CharacterId id) { return impl(this).removeCharacte
 Status World::setCharacterRoot(CharacterId id, const double position[3], double yaw) {
     return impl(this).setCharacterRoot(id, position, yaw);
 }
+Status World::setCharacterPlaybackRate(CharacterId id, double playbackRate) {
+    return impl(this).setCharacterPlaybackRate(id, playbackRate);
+}
 Status World::setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t vertexCount,
                                           uint32_t strideBytes) {
     return impl(this).setCharacterSkinnedVertices(id, positions, vertexCount, strideBytes);

@@ -80,6 +80,9 @@ constexpr std::size_t kPrebuiltColliders = 4;
 constexpr double kRestEnergy = 1e-5;
 /// [m] farthest a character may stand from the origin: float render meshes keep 1 m there.
 constexpr double kMaxCoordinate = 1e7;
+/// Clip seconds per world second a character may play at (NaN fails the comparison).
+bool validPlaybackRate(double rate) { return rate >= 0.0 && rate <= 10.0; }
+
 /// A root moving or turning faster than this in one frame teleported (see setCharacterRoot).
 constexpr double kTeleportSpeed = 100.0;          ///< [m/s]
 constexpr double kTeleportYawRate = 4.0 * 2.0 * kPi;  ///< [rad/s] four turns a second
@@ -154,7 +157,7 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
         return Status::invalidArgument("CharacterDesc.position and yaw must be finite");
     if (position.cwiseAbs().maxCoeff() > kMaxCoordinate)
         return Status::invalidArgument("CharacterDesc.position beyond " + std::to_string(kMaxCoordinate) + " m");
-    if (!(desc.playbackRate >= 0.0 && desc.playbackRate <= 10.0))
+    if (!validPlaybackRate(desc.playbackRate))
         return Status::invalidArgument("CharacterDesc.playbackRate must be in [0, 10]");
     if (!body->topology) {
         auto topology = collision::BodyTopology::build(body->body->mesh().triangles, body->body->mesh().bindPositions);
@@ -193,6 +196,16 @@ Status WorldImpl::removeCharacter(CharacterId id) {
     for (GarmentId g : c->garments) mGarments.remove(g);
     spareMeshCollider(*c);
     mCharacters.remove(id);
+    return Status::ok();
+}
+
+Status WorldImpl::setCharacterPlaybackRate(CharacterId id, double playbackRate) {
+    CharacterInstance* c = mCharacters.get(id);
+    if (!c) return staleHandle("character");
+    if (!validPlaybackRate(playbackRate))
+        return Status::invalidArgument("setCharacterPlaybackRate: playbackRate = " + std::to_string(playbackRate) +
+                                       " must be in [0, 10]");
+    c->playbackRate = playbackRate;  // clipTime goes on from where it is (step() advances it)
     return Status::ok();
 }
 

@@ -34,6 +34,7 @@ public:
     Result<CharacterId> addCharacter(const CharacterDesc& desc);
     Status removeCharacter(CharacterId id);
     Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
+    Status setCharacterPlaybackRate(CharacterId id, double playbackRate);
     Status setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t count, uint32_t stride);
     Result<GarmentId> addGarment(AssetId asset, CharacterId character, const GarmentDesc& desc);
     Status removeGarment(GarmentId id);

@@ -159,6 +159,9 @@ TEST(CApi, BodiesFromFilesWearFittedGarments) {
     cd.clip_index = walk;
     cd.clip_phase = 0.25;
     ASSERT_EQ(cc_world_add_character(world, &cd, &character), CC_OK) << cc_world_last_error(world);
+    EXPECT_EQ(cc_world_set_character_playback_rate(world, character, 11.0), CC_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(cc_world_last_error(world)).find("playbackRate"), std::string::npos);
+    ASSERT_EQ(cc_world_set_character_playback_rate(world, character, 0.8), CC_OK) << cc_world_last_error(world);
     cc_cloth_asset_desc ad;
     cc_cloth_asset_desc_init(&ad);
     ad.kind = CC_GARMENT_SKIRT;

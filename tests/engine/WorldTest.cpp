@@ -2,6 +2,8 @@
 #include <cmath>
 #include <memory>
 #include <thread>
+#include <vector>
+#include <algorithm>
 
 #include <gtest/gtest.h>
 
@@ -288,6 +290,51 @@ TEST(World, HostSkinnedBodiesTakeTheirVerticesEachFrame) {
     moved[3][1] = std::nanf("");
     EXPECT_NE(world->setCharacterSkinnedVertices(idWithLandmarks, &moved[0][0], 8, 0).message().find("vertex 3"), std::string::npos);
     EXPECT_FALSE(world->setCharacterSkinnedVertices(idWithLandmarks, &moved[0][0], 7, 0).isOk());
+}
+
+// A walker slowing to a stop and starting again: the clip goes on from where it is. Its pose after
+// rates 1, 0 and 2 is the pose of a walker that played the same clip seconds at one steady rate,
+// and while the rate is 0 the pose holds.
+TEST(World, APlaybackRateChangeGoesOnFromWhereTheClipIs) {
+    WorldPtr changing = makeWorld(), steady = makeWorld();
+    auto addWalker = [](World& world, double rate) {
+        CharacterDesc c;
+        c.body = world.addMannequinBody({}).value();
+        c.playbackRate = rate;
+        return world.addCharacter(c).value();
+    };
+    const double dt = 1.0 / 60.0;
+    const int walking = 30, stopped = 10, hurrying = 15, steps = walking + stopped + hurrying;
+    const double clipSeconds = (walking * 1.0 + hurrying * 2.0) * dt;
+    const CharacterId a = addWalker(*changing, 1.0);
+    const CharacterId b = addWalker(*steady, clipSeconds / (steps * dt));
+    std::vector<float> held;
+    for (int step = 1; step <= steps; ++step) {
+        const double rate = step <= walking ? 1.0 : step <= walking + stopped ? 0.0 : 2.0;
+        ASSERT_TRUE(changing->setCharacterPlaybackRate(a, rate).isOk());
+        ASSERT_TRUE(changing->step(dt).isOk());
+        ASSERT_TRUE(steady->step(dt).isOk());
+        const RenderMeshView mesh = changing->characterMesh(a).value();
+        const std::vector<float> now(mesh.positions, mesh.positions + 3 * mesh.vertexCount);
+        // step() advances the clip before it poses, so a rate set before a step counts in it.
+        if (rate == 0.0) {
+            EXPECT_EQ(now, held) << "held, step " << step;
+        } else if (step > 1) {
+            EXPECT_NE(now, held) << "moving, step " << step;
+        }
+        held = now;
+    }
+    const RenderMeshView x = changing->characterMesh(a).value(), y = steady->characterMesh(b).value();
+    ASSERT_EQ(x.vertexCount, y.vertexCount);
+    double worst = 0.0;
+    for (uint32_t i = 0; i < 3 * x.vertexCount; ++i) worst = std::max(worst, double(std::abs(x.positions[i] - y.positions[i])));
+    EXPECT_LT(worst, 1e-5) << "[m] the same clip time, reached at changing and at steady rates";
+
+    EXPECT_FALSE(changing->setCharacterPlaybackRate(a, -1.0).isOk());
+    EXPECT_FALSE(changing->setCharacterPlaybackRate(a, std::nan("")).isOk());
+    EXPECT_NE(changing->setCharacterPlaybackRate(a, 11.0).message().find("[0, 10]"), std::string::npos);
+    ASSERT_TRUE(changing->removeCharacter(a).isOk());
+    EXPECT_FALSE(changing->setCharacterPlaybackRate(a, 1.0).isOk()) << "a removed character";
 }
 
 } // namespace

@@ -280,6 +280,10 @@ public:
     /// root's motion (see GarmentDesc::inertiaScale); a move faster than 100 m/s or a turn faster
     /// than four turns a second within one step is a teleport: the garments are carried along.
     Status setCharacterRoot(CharacterId id, const double position[3], double yaw);
+    /// Changes how fast a character's clip plays from the next step on [clip seconds per world
+    /// second, 0-10]: the clip goes on from where it is, so a walker can slow to a stop (0 holds the
+    /// pose) and start again without a jump in its pose.
+    Status setCharacterPlaybackRate(CharacterId id, double playbackRate);
     /// Host-skinned bodies: this frame's vertices in world space (xyz floats, `stride` bytes apart).
     Status setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t vertexCount,
                                        uint32_t strideBytes);

@@ -197,6 +197,8 @@ CC_API cc_status cc_world_get_body_clip_name(const cc_world* world, cc_body_id b
 CC_API cc_status cc_world_add_character(cc_world* world, const cc_character_desc* desc, cc_character_id* out_character);
 CC_API cc_status cc_world_remove_character(cc_world* world, cc_character_id character);
 CC_API cc_status cc_world_set_character_root(cc_world* world, cc_character_id character, const double position[3], double yaw);
+/* Clip seconds per world second from the next step on, [0, 10]; the clip goes on from where it is. */
+CC_API cc_status cc_world_set_character_playback_rate(cc_world* world, cc_character_id character, double playback_rate);
 CC_API cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_character_id character, const float* positions,
                                                   uint32_t vertex_count, uint32_t stride_bytes);
 CC_API cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
