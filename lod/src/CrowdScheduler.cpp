@@ -340,6 +340,23 @@ GarmentSchedule finalSchedule(const GarmentView& g, const SchedulerSettings& s) 
     return out;
 }
 
+/// Clip w on the near plane of a perspective camera; 0 for an orthographic one (w is 1 everywhere)
+/// or a matrix without a near plane. The eye is where clip x, y and w vanish; its signed distance
+/// to the near plane (rows 3 + 2, Gribb & Hartmann 2001) times w's growth per metre is the answer.
+double nearPlaneW(const Mat4& m) {
+    Eigen::Matrix3d rows;
+    rows << m.block<1, 3>(0, 0), m.block<1, 3>(1, 0), m.block<1, 3>(3, 0);
+    const Eigen::Vector3d offsets(-m(0, 3), -m(1, 3), -m(3, 3));
+    const double depthScale = m.row(3).head<3>().norm();
+    if (depthScale == 0.0 || std::abs(rows.determinant()) < 1e-12) return 0.0;
+    const Eigen::Vector3d eye = rows.partialPivLu().solve(offsets);
+    const Eigen::Vector4d nearPlane = m.row(3).transpose() + m.row(2).transpose();
+    const double normal = nearPlane.head<3>().norm();
+    if (normal == 0.0) return 0.0;
+    const double eyeToNear = -(nearPlane.head<3>().dot(eye) + nearPlane(3)) / normal;
+    return std::isfinite(eyeToNear) && eyeToNear > 0.0 ? eyeToNear * depthScale : 0.0;
+}
+
 } // namespace
 
 Status SchedulerSettings::validate() const {
@@ -380,8 +397,11 @@ ScreenProjection projectSphere(const SchedulerCamera& camera, const Vec3& center
     }
     // Clip w is the view depth for a perspective camera (and 1 for an orthographic one); the
     // nearest point of the sphere sets the largest scale, so the estimate errs on the fine side.
+    // Nothing nearer than the near plane is drawn, so a sphere around the eye (a close-up, the
+    // camera inside a skirt) is seen at most at the near plane's scale, not at a vanishing depth.
     const double depthScale = m.row(3).head<3>().norm();
-    const double w = std::max(m.row(3).dot(p) - radius * depthScale, 1e-3 * std::max(depthScale, 1e-9));
+    const double nearest = m.row(3).dot(p) - radius * depthScale;
+    const double w = std::max(nearest, std::max(nearPlaneW(m), 1e-3 * std::max(depthScale, 1e-9)));
     out.pixelsPerMetre = m.row(1).head<3>().norm() / w * 0.5 * camera.viewportHeight;
     return out;
 }

@@ -73,6 +73,34 @@ TEST(ProjectSphere, PixelsPerMetreMatchesPinhole) {
     EXPECT_TRUE(projectSphere(camera, Vec3(0, 0, 0.5), 1.0).visible) << "sphere around the camera";
 }
 
+TEST(ProjectSphere, ASphereAroundTheEyeIsSeenAtTheNearPlanesScale) {
+    // The camera inside a garment's bounds (a close-up, or a skirt around the eye): nothing is drawn
+    // nearer than the near plane (0.1 m), so that is the largest scale the garment can have.
+    const double nearPlaneScale = 0.5 * kHeight / (0.1 * std::tan(0.5 * kFov));
+    const SchedulerCamera camera = cameraAtOrigin();
+    for (const Vec3& center : {Vec3(0, 0, 0.5), Vec3(0, 0, -0.5), Vec3(0.3, -0.2, 0)}) {
+        const ScreenProjection p = projectSphere(camera, center, 1.0);
+        EXPECT_TRUE(p.visible);
+        EXPECT_NEAR(p.pixelsPerMetre, nearPlaneScale, 1e-9 * nearPlaneScale) << center.transpose();
+    }
+    // Moved away, the same camera (translated and turned) sees the same near-plane limit.
+    SchedulerCamera moved = camera;
+    moved.viewProjection = test::perspective(kFov, 16.0 / 9.0, 0.1, 1000.0) *
+                           test::lookAt(Vec3(40, 2, -7), Vec3(41, 2, -6));
+    EXPECT_NEAR(projectSphere(moved, Vec3(40, 2, -7), 0.8).pixelsPerMetre, nearPlaneScale, 1e-6 * nearPlaneScale);
+    // Just beyond the near plane the pinhole scale holds again.
+    const ScreenProjection justBeyond = projectSphere(camera, Vec3(0, 0, -1.2), 1.0);
+    EXPECT_NEAR(justBeyond.pixelsPerMetre, 0.5 * kHeight / (0.2 * std::tan(0.5 * kFov)), 1e-6 * nearPlaneScale);
+
+    // And the scheduler's predicted error stays a screen-sized figure, not a million pixels.
+    GarmentRequest around = garmentAt(0, 0.2);
+    around.radius = 1.0;
+    const auto out = schedule(unlimited(), {around});
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_TRUE(std::isfinite(out[0].predictedErrorPx));
+    EXPECT_LE(out[0].predictedErrorPx, 0.04 * nearPlaneScale);
+}
+
 TEST(CrowdScheduler, LevelFallsAndIntervalGrowsWithDistance) {
     std::vector<GarmentRequest> requests;
     for (int i = 0; i < 60; ++i) requests.push_back(garmentAt(i, 1.0 + 4.0 * i));
@@ -250,9 +278,11 @@ TEST(CrowdScheduler, CountsTheCollisionDetailsCostInTheBudget) {
     ASSERT_EQ(costly[0].collision, CollisionDetail::MeshContinuous);
     const double solve = fiveLevels().levels[costly[0].level].costMs[0];
     EXPECT_DOUBLE_EQ(costly[0].predictedCostMs * costly[0].updateInterval, solve + 1.0);
-    for (std::size_t i = 1; i < requests.size(); ++i)
-        if (costly[i].collision == CollisionDetail::Proxies)
+    for (std::size_t i = 1; i < requests.size(); ++i) {
+        if (costly[i].collision == CollisionDetail::Proxies) {
             EXPECT_DOUBLE_EQ(costly[i].predictedCostMs, plain[i].predictedCostMs) << "capsules add nothing";
+        }
+    }
 
     double plainCost = 0.0;
     for (const auto& s : plain) plainCost += s.predictedCostMs;
