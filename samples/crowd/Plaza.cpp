@@ -24,6 +24,38 @@ double smoothstep(double x) {
     return x * x * (3.0 - 2.0 * x);
 }
 
+/// The integral of smoothstep from 0 to x, x in [0, 1] (1/2 at 1).
+double smoothstepIntegral(double x) { return x * x * x - 0.5 * x * x * x * x; }
+
+/// A stop-and-start walker's cycle [s]: it walks, brakes, stands and sets off again, its speed
+/// ramping smoothly (a 1.35 m/s walker brakes at up to 2 m/s^2, a 4.6 m/s runner at 6.9: the
+/// garments swing forward as they stop and trail as they start).
+constexpr double kCruise = 4.0, kRamp = 1.0, kStand = 1.5;
+constexpr double kGaitCycle = kCruise + kRamp + kStand + kRamp;
+
+struct Gait {
+    double speed;      ///< [-] share of the walker's full speed
+    double travelled;  ///< [s] time at full speed that covers the distance walked since the cycle began
+};
+
+Gait stopAndStart(double t) {
+    const double cycles = std::floor(t / kGaitCycle);
+    double u = t - cycles * kGaitCycle;
+    double travelled = cycles * (kCruise + kRamp);  // each ramp covers half its time at full speed
+    if (u < kCruise) return {1.0, travelled + u};
+    travelled += kCruise;
+    u -= kCruise;
+    if (u < kRamp) {
+        const double x = u / kRamp;
+        return {1.0 - smoothstep(x), travelled + kRamp * (x - smoothstepIntegral(x))};
+    }
+    travelled += 0.5 * kRamp;
+    u -= kRamp;
+    if (u < kStand) return {0.0, travelled};
+    const double x = (u - kStand) / kRamp;
+    return {smoothstep(x), travelled + kRamp * smoothstepIntegral(x)};
+}
+
 } // namespace
 
 std::vector<CameraKey> Plaza::defaultCameraPath(const PlazaSettings& settings) {
@@ -45,6 +77,7 @@ std::vector<CameraKey> Plaza::defaultCameraPath(const PlazaSettings& settings) {
 cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings) {
     Plaza plaza;
     std::mt19937 rng(settings.seed);
+    std::mt19937 gaitRng(settings.seed ^ 0x9e3779b9u);  // its own stream: the layout stays the seed's
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     plaza.mExtent = 0.5 * settings.spacing * std::sqrt(double(std::max(settings.characters, 1)));
     plaza.mCamera = settings.camera.empty() ? defaultCameraPath(settings) : settings.camera;
@@ -133,10 +166,13 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         w.phase = 2.0 * kPi * unit(rng);
         const double speed = imported ? settings.walkSpeed : idle ? 0.0 : runs ? 4.6 : 1.35;
         w.angularSpeed = (unit(rng) < 0.5 ? 1.0 : -1.0) * speed / w.radius;
-        if (i == 0) {  // the close-up's character walks near the centre
+        if (speed > 0.0 && unit(gaitRng) < settings.stopStartFraction) w.gaitOffset = kGaitCycle * unit(gaitRng);
+        if (i == 0) {  // the close-up's character walks near the centre and stops in the close-up
             w.cx = w.cz = 0.0;
             w.radius = 4.0;
             w.angularSpeed = 1.35 / w.radius;
+            const double brakes = 8.4;  // [s] the built-in camera path is close behind it from 8 s (the run ends at 10)
+            w.gaitOffset = settings.stopStartFraction > 0.0 ? std::fmod(kCruise - brakes + 2.0 * kGaitCycle, kGaitCycle) : -1.0;
         }
         cc::CharacterDesc c;
         c.body = bodies[i % bodies.size()];
@@ -175,7 +211,13 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
 cc::Status Plaza::update(cc::World& world, double t, int viewportWidth, int viewportHeight) {
     for (std::size_t i = 0; i < mWalkers.size(); ++i) {
         const Walker& w = mWalkers[i];
-        const double angle = w.phase + w.angularSpeed * t;
+        double travelled = t;
+        if (w.gaitOffset >= 0.0) {
+            const Gait gait = stopAndStart(t + w.gaitOffset);
+            travelled = gait.travelled;
+            if (cc::Status s = world.setCharacterPlaybackRate(mCharacters[i], gait.speed); !s) return s;
+        }
+        const double angle = w.phase + w.angularSpeed * travelled;
         const double position[3] = {w.cx + w.radius * std::cos(angle), 0.0, w.cz + w.radius * std::sin(angle)};
         // Facing along the circle: the derivative of the position, direction of travel.
         const double dx = -std::sin(angle) * w.angularSpeed, dz = std::cos(angle) * w.angularSpeed;

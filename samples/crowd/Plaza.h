@@ -29,6 +29,8 @@ struct PlazaSettings {
     double spacing = 3.2;        ///< [m] mean distance between neighbours
     double runnerFraction = 0.1; ///< [-] characters that run
     double idleFraction = 0.1;   ///< [-] characters that stand
+    double stopStartFraction = 0.3; ///< [-] of those that move, the share that stop now and then
+                                    ///< (brake, stand, set off again; the clip slows with them)
     uint32_t seed = 1;
     GarmentMix garments;
     double velocityDamping = 0.4; ///< [1/s] the garments' (ClothAssetDesc::velocityDamping)
@@ -67,6 +69,7 @@ public:
 private:
     struct Walker {
         double cx, cz, radius, phase, angularSpeed;  ///< [rad/s] signed: the direction round
+        double gaitOffset = -1.0;  ///< [s] where in its stop-and-start cycle it is at t = 0; < 0: never stops
     };
     cc::Status pointCamera(cc::World& world, double t, int viewportWidth, int viewportHeight);
 

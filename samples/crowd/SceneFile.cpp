@@ -83,6 +83,7 @@ Scene parse(const Json& root, const std::filesystem::path& directory) {
          {"spacing", [&](const Json& v, const std::string& p) { c.spacing = number(v, p, 0.5, 100.0); }},
          {"runnerFraction", [&](const Json& v, const std::string& p) { c.runnerFraction = number(v, p, 0.0, 1.0); }},
          {"idleFraction", [&](const Json& v, const std::string& p) { c.idleFraction = number(v, p, 0.0, 1.0); }},
+         {"stopStartFraction", [&](const Json& v, const std::string& p) { c.stopStartFraction = number(v, p, 0.0, 1.0); }},
          {"seed",
           [&](const Json& v, const std::string& p) {
               if (!v.is_number_integer()) throw SceneError("'" + p + "' must be an integer, not " + v.dump());
@@ -171,6 +172,7 @@ cc::Status writeScene(const Scene& s, const std::string& path) {
         {"spacing", c.spacing},
         {"runnerFraction", c.runnerFraction},
         {"idleFraction", c.idleFraction},
+        {"stopStartFraction", c.stopStartFraction},
         {"seed", c.seed},
         {"garments", {{"cape", c.garments.cape}, {"skirt", c.garments.skirt}, {"dress", c.garments.dress}, {"poncho", c.garments.poncho}}},
         {"velocityDamping", c.velocityDamping},
