@@ -517,6 +517,19 @@ private:
         bool bothFree;
     };
 
+    // d += a p and r -= a q with a per lane scalar: CG's update along its search direction p (q = A p),
+    // and the warm start's along the last correction.
+    static void advance(const double* a, const double* p, const double* q, double* d, double* r, std::size_t size) {
+        for (std::size_t o = 0; o < size; o += kRow)
+            for (int c = 0; c < 3; ++c)
+                for (int l = 0; l < W; l += S) {
+                    const std::size_t i = o + c * W + l;
+                    const V scale = load<V>(a + l);
+                    store(d + i, load<V>(d + i) + scale * load<V>(p + i));
+                    store(r + i, load<V>(r + i) - scale * load<V>(q + i));
+                }
+    }
+
     // One Newton step from the prediction (in x): (M / h^2 + H) d = f(x), x += d, by `iterations`
     // CG iterations preconditioned with the shared factor, from d = 0 or (warm) from the line
     // search's multiple of the last correction. Per lane scalars, so lanes never mix; a lane whose
@@ -561,13 +574,7 @@ private:
             dot(r, w, rw);
             dot(w, q, wq);
             for (int l = 0; l < W; ++l) a[l] = wq[l] > 0.0 && rw[l] > 0.0 ? rw[l] / wq[l] : 0.0;
-            for (std::size_t o = 0; o < size; o += kRow)
-                for (int c = 0; c < 3; ++c)
-                    for (int l = 0; l < W; ++l) {
-                        const std::size_t i = o + c * W + l;
-                        d[i] = a[l] * w[i];
-                        r[i] -= a[l] * q[i];
-                    }
+            advance(a, w, q, d, r, size);  // d was 0
         }
         auto precondition = [&] {
             std::copy(r, r + size, z);
@@ -581,14 +588,7 @@ private:
             systemProduct(p, q, mass, h2);
             dot(p, q, pq);
             for (int l = 0; l < W; ++l) alpha[l] = pq[l] > 0.0 && rz[l] > 0.0 ? rz[l] / pq[l] : 0.0;
-            for (std::size_t o = 0; o < size; o += kRow)
-                for (int c = 0; c < 3; ++c)
-                    for (int l = 0; l < W; l += S) {
-                        const std::size_t i = o + c * W + l;
-                        const V a = load<V>(alpha + l);
-                        store(d + i, load<V>(d + i) + a * load<V>(p + i));
-                        store(r + i, load<V>(r + i) - a * load<V>(q + i));
-                    }
+            advance(alpha, p, q, d, r, size);
             if (it + 1 == mSettings.iterations) break;
             precondition();
             dot(r, z, next);

@@ -80,8 +80,14 @@ constexpr std::size_t kPrebuiltColliders = 4;
 constexpr double kRestEnergy = 1e-5;
 /// [m] farthest a character may stand from the origin: float render meshes keep 1 m there.
 constexpr double kMaxCoordinate = 1e7;
-/// Clip seconds per world second a character may play at (NaN fails the comparison).
-bool validPlaybackRate(double rate) { return rate >= 0.0 && rate <= 10.0; }
+/// Clip seconds per world second a character may play at: [0, kMaxPlaybackRate].
+constexpr double kMaxPlaybackRate = 10.0;
+/// ok, or an error naming `what` and the range (NaN fails the comparison).
+Status checkPlaybackRate(const char* what, double rate) {
+    if (rate >= 0.0 && rate <= kMaxPlaybackRate) return Status::ok();
+    return Status::invalidArgument(std::string(what) + " = " + std::to_string(rate) + " must be in [0, " +
+                                   std::to_string(int(kMaxPlaybackRate)) + "]");
+}
 
 /// A root moving or turning faster than this in one frame teleported (see setCharacterRoot).
 constexpr double kTeleportSpeed = 100.0;          ///< [m/s]
@@ -157,8 +163,7 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
         return Status::invalidArgument("CharacterDesc.position and yaw must be finite");
     if (position.cwiseAbs().maxCoeff() > kMaxCoordinate)
         return Status::invalidArgument("CharacterDesc.position beyond " + std::to_string(kMaxCoordinate) + " m");
-    if (!validPlaybackRate(desc.playbackRate))
-        return Status::invalidArgument("CharacterDesc.playbackRate must be in [0, 10]");
+    if (Status s = checkPlaybackRate("CharacterDesc.playbackRate", desc.playbackRate); !s) return s;
     if (!body->topology) {
         auto topology = collision::BodyTopology::build(body->body->mesh().triangles, body->body->mesh().bindPositions);
         if (!topology.isOk()) return Status::invalidArgument("addCharacter: body mesh: " + topology.status().message());
@@ -202,9 +207,7 @@ Status WorldImpl::removeCharacter(CharacterId id) {
 Status WorldImpl::setCharacterPlaybackRate(CharacterId id, double playbackRate) {
     CharacterInstance* c = mCharacters.get(id);
     if (!c) return staleHandle("character");
-    if (!validPlaybackRate(playbackRate))
-        return Status::invalidArgument("setCharacterPlaybackRate: playbackRate = " + std::to_string(playbackRate) +
-                                       " must be in [0, 10]");
+    if (Status s = checkPlaybackRate("setCharacterPlaybackRate: playbackRate", playbackRate); !s) return s;
     c->playbackRate = playbackRate;  // clipTime goes on from where it is (step() advances it)
     return Status::ok();
 }

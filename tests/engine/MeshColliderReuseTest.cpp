@@ -44,10 +44,12 @@ TEST(MeshColliders, EachCharacterTheCameraVisitsMeetsItsBodyMeshWithinAFewFrames
             ASSERT_EQ(fs.failed, 0u) << "frame " << frame << ": " << world->statsJson().substr(0, 400);
             const GarmentStats s = world->garmentStats(crowd.garments[visit]).value();
             if (firstMeshFrame < 0 && s.updated && meetsTheMesh(s)) firstMeshFrame = k;
-            if (firstMeshFrame >= 0 && s.updated)
+            if (firstMeshFrame >= 0 && s.updated) {
                 EXPECT_TRUE(meetsTheMesh(s)) << "character " << visit << " lost its mesh at visit frame " << k;
-            if (firstMeshFrame < 0 && s.updated)
+            }
+            if (firstMeshFrame < 0 && s.updated) {
                 EXPECT_EQ(s.collision, CollisionKind::Proxies) << "waiting for its collider: the capsules";
+            }
         }
         ASSERT_GE(firstMeshFrame, 0) << "character " << visit << " never met its body mesh";
         EXPECT_LE(firstMeshFrame, 3) << "character " << visit;
