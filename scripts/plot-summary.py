@@ -49,11 +49,12 @@ def main():
 
     err.plot(t, c["errorMedianPx"], lw=0.8, label="median")
     err.plot(t, c["errorMaxPx"], lw=0.8, label="max")
-    # Symmetric log: typical errors are fractions of a pixel, a garment around the eye can predict millions.
-    err.set_yscale("symlog", linthresh=0.01)
+    err.axhline(1.0, color="r", ls="--", lw=1.0, label="1 px")
+    # Log: typical errors are fractions of a pixel, a close-up's a few pixels (frames with no
+    # garment in view, error 0, leave gaps).
+    err.set_yscale("log")
     err.set_ylabel("px")
     err.set_xlabel("time [s]")
-    err.set_ylim(bottom=0)
     err.legend(loc="upper right")
     err.set_title("predicted error of the garments in view")
 
