@@ -47,6 +47,7 @@ public:
     Status runStepTask(uint32_t index);
     bool nextStepPhase();
     Status endStep();
+    bool stepOpen() const { return mStepPhase != StepPhase::Idle; }  ///< between beginStep and endStep
     Result<RenderMeshView> renderMesh(GarmentId id) const;
     Result<GarmentStats> garmentStats(GarmentId id) const;
     Result<RenderMeshView> characterMesh(CharacterId id);

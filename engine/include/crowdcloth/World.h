@@ -294,7 +294,7 @@ public:
     Status setCameras(const CameraDesc* cameras, uint32_t count);
     Status setFrameBudget(double milliseconds);
 
-    /// Advances the world by dt [s], (0, 0.1]: bodies, schedule, level switches, simulation in
+    /// Advances the world by dt [s], [1e-6, 0.1]: bodies, schedule, level switches, simulation in
     /// parallel, publishing. A garment whose step fails keeps its last good state and is reported
     /// in its stats; the frame goes on.
     Status step(double dt);
@@ -314,7 +314,8 @@ public:
     ///
     /// There are two phases today (per garment: level switch, body and contacts; per solver batch:
     /// the simulation); hosts loop until nextStepPhase() returns false. Between beginStep() and
-    /// endStep() call only these four (runStepTask concurrently, the others from one thread).
+    /// endStep() call only these four (runStepTask concurrently, the others from one thread); the
+    /// calls that change or read characters and garments return InvalidOperation meanwhile.
     Status beginStep(double dt);
     uint32_t stepTaskCount() const;
     /// Runs task `index` of the current phase; fails only for an index not below stepTaskCount().

@@ -206,6 +206,8 @@ CC_API cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_cha
 CC_API cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
 CC_API cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
 CC_API cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
+/* dt in [1e-6, 0.1] s. Between begin_step and end_step the calls that change or read characters and
+ * garments return CC_INVALID_OPERATION. */
 CC_API cc_status cc_world_step(cc_world* world, double dt);
 /* The same step in phases of tasks for the host's job system (World::beginStep in World.h), bit for
  * bit cc_world_step():
