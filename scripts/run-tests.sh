@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds, and runs every test through CTest; then builds the consumer
 # projects against an install (scripts/check-consumers.sh); then the fast tests again under
-# AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh).
+# AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh); then a
+# minute of libFuzzer on the import gate (scripts/run-fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -12,3 +13,4 @@ bash scripts/build.sh
 OMP_WAIT_POLICY=passive ctest --test-dir build --output-on-failure --timeout 900 -j "$(nproc)"
 bash scripts/check-consumers.sh
 bash scripts/run-sanitizers.sh
+bash scripts/run-fuzz.sh

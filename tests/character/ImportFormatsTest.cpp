@@ -5,6 +5,7 @@
 // name the file (the parser runs isolated, so even one that crashes only costs an error).
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -19,6 +20,7 @@
 #include <assimp/scene.h>
 
 #include "character/FormatRig.h"
+#include "fuzz/ImportInput.h"
 #include "crowdcloth/import/CharacterIO.h"
 
 namespace cc {
@@ -268,6 +270,41 @@ TEST(ImportFormats, RandomBytesOfEveryFormatGiveErrorsNamingTheFile) {
             expectNamedError(importCharacter(signed_), signed_, "random bytes behind a signature");
         }
     }
+}
+
+// The import fuzzer's seeds (tests/fuzz/import_corpus) are the sample files of every format that
+// is one file on its own, and each reads whole: a fuzz run starts from real files of every format.
+// CC_REWRITE_IMPORT_SEEDS=1 in the environment writes them anew first.
+TEST(ImportFormats, TheImportFuzzersSeedsAreSampleFilesThatReadWhole) {
+    TempDir dir("seeds");
+    std::vector<std::string> files = sampleFiles(dir);
+    files.push_back(throughAssimp(dir, "obj", "obj", true));
+    const fs::path seeds = CC_IMPORT_SEEDS_DIR;
+    const bool rewrite = std::getenv("CC_REWRITE_IMPORT_SEEDS") != nullptr;
+    int checked = 0;
+    for (const std::string& file : files) {
+        const std::string name = fs::path(file).filename().string();
+        const std::string ext = name.substr(name.find('.') + 1);
+        // Formats that come in several files (mesh + clips, skeleton, buffers) cannot be one input.
+        if (ext == "md5mesh" || ext == "mesh.xml" || ext == "gltf") continue;
+        const fs::path seed = seeds / ("seed-" + ext);
+        if (rewrite) {
+            const std::string input = fuzz::encodeImportInput(ext, readBytes(file));
+            ASSERT_FALSE(input.empty()) << ext << " is not in the fuzzer's extension table";
+            std::ofstream(seed, std::ios::binary) << input;
+        }
+        const std::string bytes = readBytes(seed.string());
+        ASSERT_FALSE(bytes.empty()) << seed << " is missing (CC_REWRITE_IMPORT_SEEDS=1 writes it)";
+        const fuzz::ImportInput in =
+            fuzz::decodeImportInput(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+        EXPECT_EQ(in.extension, ext) << seed;
+        const std::string path = dir / (std::string("seed.") + in.extension);
+        std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(in.bytes), std::streamsize(in.size));
+        const Result<Character> r = importCharacter(path);
+        EXPECT_TRUE(r.isOk()) << seed << ": " << r.status().message();
+        ++checked;
+    }
+    EXPECT_GE(checked, 11) << "a seed per single-file format";
 }
 
 TEST(ImportFormats, AFileNotWhatItsExtensionSaysIsRefused) {

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Fuzzes the import gate (tests/fuzz/FuzzImport.cpp: importCharacter on any bytes under any
+# extension) with libFuzzer under AddressSanitizer + UndefinedBehaviorSanitizer (Debian's clang)
+# for FUZZ_SECONDS (default 60), starting from the committed seeds and findings
+# (tests/fuzz/import_corpus). The run's new inputs stay in build-fuzz/; a crash, a leak, an input
+# slower than 20 s or an allocation over 1 GB fails the run and leaves the input there (fix it,
+# then commit it to import_corpus/). Called by run-tests.sh; needs the packages of install-deps.sh.
+#   FUZZ_TARGETS="import world" also builds and fuzzes the World's calls (tests/fuzz/FuzzWorld.cpp;
+#   the whole engine, so not in CI's time).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${FUZZ_SECONDS:-60}
+targets=${FUZZ_TARGETS:-import}
+
+san="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+start=$(date +%s)
+# The import reader alone needs neither OpenMP (clang would want libomp) nor the samples.
+mkdir -p build-fuzz
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+      -DCC_BUILD_FUZZERS=ON -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF \
+      -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" > build-fuzz/configure.log
+cmake --build build-fuzz --parallel "$(nproc)" --target $(for t in $targets; do echo "cc_fuzz_$t"; done)
+built=$(date +%s)
+
+export ASAN_OPTIONS="detect_leaks=1"
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"  # third-party leaks only
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+for t in $targets; do
+    corpus=tests/fuzz/corpus
+    [ "$t" = import ] && corpus=tests/fuzz/import_corpus
+    found=build-fuzz/found_$t
+    mkdir -p "$found"
+    # One job per core; -timeout and -malloc_limit_mb make a hang or a huge allocation a finding.
+    ./build-fuzz/tests/fuzz/cc_fuzz_$t -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 \
+        -malloc_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$found/" "$found" "$corpus" \
+        2>&1 | tail -n 25
+done
+echo "fuzz: built in $((built - start)) s, fuzzed ${targets} for ${seconds} s each"
