@@ -2,7 +2,8 @@
 # Installs dependencies, builds, and runs every test through CTest; then builds the consumer
 # projects against an install (scripts/check-consumers.sh); then the fast tests again under
 # AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh); then a
-# minute of libFuzzer on the import gate (scripts/run-fuzz.sh).
+# minute of libFuzzer on the import gate (scripts/run-fuzz.sh); then the World's concurrency tests
+# under ThreadSanitizer (scripts/run-tsan.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -14,3 +15,4 @@ OMP_WAIT_POLICY=passive ctest --test-dir build --output-on-failure --timeout 900
 bash scripts/check-consumers.sh
 bash scripts/run-sanitizers.sh
 bash scripts/run-fuzz.sh
+bash scripts/run-tsan.sh

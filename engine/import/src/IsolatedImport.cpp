@@ -13,17 +13,18 @@
 
 #include "CharacterBlob.h"
 
-// AddressSanitizer reserves terabytes of address space for its shadow memory, so under it any
-// RLIMIT_AS cap stops every parse ("Failed to mmap"): sanitizer builds parse uncapped.
-#if defined(__SANITIZE_ADDRESS__)
-#define CC_ADDRESS_SANITIZER 1
+// AddressSanitizer and ThreadSanitizer reserve terabytes of address space for their shadow
+// memory, so under them any RLIMIT_AS cap stops every parse ("Failed to mmap", "failed to
+// allocate"): sanitizer builds parse uncapped.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define CC_SHADOW_SANITIZER 1
 #elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define CC_ADDRESS_SANITIZER 1
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define CC_SHADOW_SANITIZER 1
 #endif
 #endif
-#ifndef CC_ADDRESS_SANITIZER
-#define CC_ADDRESS_SANITIZER 0
+#ifndef CC_SHADOW_SANITIZER
+#define CC_SHADOW_SANITIZER 0
 #endif
 
 namespace cc::detail {
@@ -56,7 +57,7 @@ Result<Character> readIsolated(const std::function<Result<Character>()>& read, c
         // The child: parse, send the character (or the error) and leave without running any
         // destructor of the parent's state.
         ::close(fds[0]);
-        if (memoryBytes > 0 && !CC_ADDRESS_SANITIZER) {
+        if (memoryBytes > 0 && !CC_SHADOW_SANITIZER) {
             rlimit limit{};
             limit.rlim_cur = limit.rlim_max = memoryBytes;
             ::setrlimit(RLIMIT_AS, &limit);

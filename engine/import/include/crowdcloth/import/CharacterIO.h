@@ -39,7 +39,7 @@ struct CC_IMPORT_API ImportSettings {
     bool isolate = true;
     /// [s] an isolated parse taking longer is stopped; (0, 3600].
     double timeoutSeconds = 120.0;
-    /// [bytes] address space an isolated parse may use; 0 = no cap (none under AddressSanitizer,
+    /// [bytes] address space an isolated parse may use; 0 = no cap (none under Address- or ThreadSanitizer,
     /// whose shadow memory alone exceeds any cap).
     std::size_t maxMemoryBytes = std::size_t(4) << 30;
 
