@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test through CTest; then builds the consumer
+# Installs dependencies, builds, runs cppcheck on the project's code (scripts/run-analysis.sh) and
+# every test through CTest; then builds the consumer
 # projects against an install (scripts/check-consumers.sh); then the fast tests again under
 # AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh); then a
 # minute of libFuzzer on the import gate (scripts/run-fuzz.sh); then the World's concurrency tests
@@ -8,6 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
+bash scripts/run-analysis.sh
 # One test process per core. Tests use OpenMP inside, and two 2-thread processes on 2 cores make
 # spinning OpenMP barriers crawl: its workers sleep when idle instead (results do not depend on it).
 # Measured on the 2-core VM: 157 s for the Release suites in parallel, about twice that serially.

@@ -419,7 +419,7 @@ void SubstepFactor::solve(double* x) const {
     // L y = b by rows of L (y_i needs the y_j, j < i, already found), then L^T x = y by columns
     // of L (x_j needs the x_i, i > j).
     // Wide batches go 12 columns at a time: 2 x 6 running pairs fill the 16 SSE registers.
-    constexpr int C = R < 12 ? R : 12;
+    constexpr int C = std::min(R, 12);
     for (int offset = 0; offset < R; offset += C) {
         for (uint32_t i = 0; i < n; ++i)
             eliminate<R, C>(x + offset, i, mRowColumns.data() + mRowStart[i], mRowValues.data() + mRowStart[i],

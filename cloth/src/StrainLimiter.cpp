@@ -5,7 +5,7 @@
 
 namespace cc::cloth {
 
-StrainLimiter::StrainLimiter(uint32_t vertexCount, std::vector<LimitedEdge> edges, std::vector<Vec2> restPositions)
+StrainLimiter::StrainLimiter(uint32_t vertexCount, const std::vector<LimitedEdge>& edges, std::vector<Vec2> restPositions)
     : mRest(std::move(restPositions)) {
     for (const LimitedEdge& e : edges) mStencils.vertices.push_back({e.a, e.b});
     mEdges = permute(edges, mStencils.colour(vertexCount));

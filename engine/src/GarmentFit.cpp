@@ -105,7 +105,8 @@ double arcPositionOf(const std::vector<Vec2>& p, bool closed, const Vec2& q) {
     double best = std::numeric_limits<double>::max(), bestAt = 0.0, at = 0.0;
     const std::size_t segments = closed ? p.size() : p.size() - 1;
     for (std::size_t i = 0; i < segments; ++i) {
-        const Vec2 a = p[i], b = p[(i + 1) % p.size()];
+        const Vec2& a = p[i];
+        const Vec2& b = p[(i + 1) % p.size()];
         const Vec2 ab = b - a;
         const double len2 = ab.squaredNorm();
         const double t = len2 > 0.0 ? std::clamp((q - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
@@ -221,7 +222,8 @@ Section hangSection(const Envelope& envelope, const Frame& f, const DropSpec& sp
     const double turning = theta1 - theta0;
     std::vector<Vec2> inner = spec.topRing;  // grows: everything above must stay inside
     std::vector<Vec2> slice;
-    double previousOffset = 0.0, y = spec.topY, scanned = spec.topY;
+    double previousOffset = 0.0, y = spec.topY;
+    double scanned = y;
     for (int k = 1; k <= rows; ++k) {
         const double want = spec.topWidth + spec.flare * ds * k;
         std::vector<Vec2> ring;
@@ -345,10 +347,6 @@ PanelPlacement placeRows(const Section& s, double fromFraction, double spanFract
     }
     return p;
 }
-
-struct SizedPanel {
-    uint32_t columns, rows;
-};
 
 /// Base grid of a (flared) panel: columns about cellSize at the mean width, rows about cellSize,
 /// kept within the pattern's 1:8 square aspect at the top and at the hem.
@@ -501,13 +499,14 @@ Result<FittedGarment> fitTube(const ClothAssetDesc& design, const BodyAsset& bod
         required = std::max(required, (need - width) / depth);
         stride = std::max(stride, (withStride - width) / depth);
     }
-    double hem = width;
-    switch (design.cut) {
-    case GarmentCut::Straight: hem = width; break;
-    case GarmentCut::ALine: hem = width + length * std::max(stride, 2.0 * kPi * std::sin(kALineSlope)); break;
-    case GarmentCut::Circle: hem = width + 2.0 * kPi * length; break;
+    double hem = design.hemWidth;  // as given, else the cut's
+    if (!(hem > 0.0)) {
+        switch (design.cut) {
+        case GarmentCut::Straight: hem = width; break;
+        case GarmentCut::ALine: hem = width + length * std::max(stride, 2.0 * kPi * std::sin(kALineSlope)); break;
+        case GarmentCut::Circle: hem = width + 2.0 * kPi * length; break;
+        }
     }
-    if (design.hemWidth > 0.0) hem = design.hemWidth;
     hem = std::min(hem, width + 2.0 * kPi * length);
     if (hem < width) return Status::invalidArgument(what + ": the hem (" + cm(hem) + ") is narrower than the top (" + cm(width) + ")");
     const double flare = (hem - width) / length;
@@ -631,15 +630,16 @@ Result<FittedGarment> fitOverShoulders(const ClothAssetDesc& design, const BodyA
             required = std::max(required, (need - width) / depth);
         }
     }
-    double hem = width;
-    switch (design.cut) {
-    case GarmentCut::Straight: hem = width + length * required; break;
-    case GarmentCut::ALine:
-        hem = width + length * std::max(required, turning * std::sin(closed ? 10.0 * kPi / 180.0 : 6.0 * kPi / 180.0));
-        break;
-    case GarmentCut::Circle: hem = width + length * turning; break;
+    double hem = design.hemWidth;  // as given, else the cut's
+    if (!(hem > 0.0)) {
+        switch (design.cut) {
+        case GarmentCut::Straight: hem = width + length * required; break;
+        case GarmentCut::ALine:
+            hem = width + length * std::max(required, turning * std::sin(closed ? 10.0 * kPi / 180.0 : 6.0 * kPi / 180.0));
+            break;
+        case GarmentCut::Circle: hem = width + length * turning; break;
+        }
     }
-    if (design.hemWidth > 0.0) hem = design.hemWidth;
     hem = std::min(hem, width + 2.0 * kPi * length);
     if (hem < width) return Status::invalidArgument(what + ": the hem (" + cm(hem) + ") is narrower than the top (" + cm(width) + ")");
     if (closed && (hem - width) / length + 1e-9 < required)

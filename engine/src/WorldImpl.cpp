@@ -811,7 +811,7 @@ Result<RenderMeshView> WorldImpl::characterMesh(CharacterId id) {
 }
 
 uint64_t WorldImpl::stateHash() const {
-    uint64_t h = hashBytes(nullptr, 0);
+    uint64_t h = kHashSeed;
     mGarments.forEach([&](auto handle, const GarmentInstance& g) {
         const uint64_t parts[3] = {handle.index1, uint64_t(g.level()), g.hash()};
         h = hashBytes(parts, sizeof(parts), h);

@@ -75,12 +75,10 @@ void checkDerivatives(ForceModel& model, const std::vector<Vec3>& x, const char*
 }
 
 struct Fixture {
-    ClothMesh mesh;
-    ClothTopology topology;
+    ClothMesh mesh = RectanglePanel{0.3, 0.2, 3, 2}.build().value();
+    ClothTopology topology = ClothTopology::build(mesh).value();
     ClothMaterial material;
     Fixture() {
-        mesh = RectanglePanel{0.3, 0.2, 3, 2}.build().value();
-        topology = ClothTopology::build(mesh).value();
         material.stretchStiffness = 100.0;
         material.shearStiffness = 30.0;
         material.bendStiffness = 0.5;  // comparable energies, so every term is exercised
@@ -97,7 +95,7 @@ std::vector<Vec3> perturbed(const ClothMesh& mesh, double amplitude, unsigned se
 
 template <typename Model>
 std::unique_ptr<Model> build(const Fixture& f) {
-    return std::move(Model::fromMesh(f.mesh, f.topology, f.material).value());
+    return Model::fromMesh(f.mesh, f.topology, f.material).value();
 }
 
 } // namespace

@@ -32,7 +32,7 @@ std::unique_ptr<ClothSimulation> oscillator(IntegratorKind kind, double k, doubl
                                        {1.0, mass}, 0.0, s);
     EXPECT_TRUE(sim.isOk()) << sim.status().message();
     (void)sim.value()->constraints().pin(0, Vec3::Zero());
-    return std::move(sim.value());
+    return std::move(sim).value();
 }
 
 } // namespace

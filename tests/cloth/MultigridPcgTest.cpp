@@ -36,8 +36,7 @@ struct ConstrainedSystem {
     std::vector<VertexFilter> filters;
     std::vector<Vec3> b, z;
 
-    explicit ConstrainedSystem(int vertices) {
-        sim = benchSheet(vertices, IntegratorKind::ImplicitMultigrid);
+    explicit ConstrainedSystem(int vertices) : sim(benchSheet(vertices, IntegratorKind::ImplicitMultigrid)) {
         for (int i = 0; i < 12; ++i) EXPECT_TRUE(sim->step(1.0 / 60.0).isOk());
         const uint32_t n = sim->state().vertexCount();
         filters.assign(n, VertexFilter{});

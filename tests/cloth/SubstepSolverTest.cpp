@@ -466,6 +466,7 @@ TEST(SubstepSolver, ANonFiniteLaneFailsAloneAndTheOthersAreUntouched) {
     const std::vector<Vec3> before = together.positions[2];
     std::vector<SubstepLaneReport> reports;
     together.step({0, 1, 2, 3}, 5, &reports);
+    ASSERT_EQ(reports.size(), 4u);
     EXPECT_EQ(reports[2].status.code(), StatusCode::NumericalFailure);
     EXPECT_NE(reports[2].status.message().find("vertex 7"), std::string::npos) << reports[2].status.message();
     EXPECT_EQ(std::memcmp(before.data(), together.positions[2].data(), before.size() * sizeof(Vec3)), 0);

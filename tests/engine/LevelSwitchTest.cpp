@@ -16,8 +16,7 @@ struct Scene {
     std::shared_ptr<const CookedAsset> asset;
     std::unique_ptr<GarmentInstance> garment;
 
-    explicit Scene(GarmentKind kind) {
-        body = std::make_shared<const BodyAsset>(makeMannequinBody({}).value());
+    explicit Scene(GarmentKind kind) : body(std::make_shared<const BodyAsset>(makeMannequinBody({}).value())) {
         character.body = body;
         character.pose = CharacterPose(body->mannequin.character);
         EXPECT_TRUE(character.updatePose().isOk());

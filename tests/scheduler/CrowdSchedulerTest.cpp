@@ -303,8 +303,8 @@ TEST(CrowdScheduler, CountsTheCollisionDetailsCostInTheBudget) {
 TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     const SchedulerCamera camera = cameraAtOrigin();
     const GarmentProfile profile = fiveLevels();
-    auto run = [&](std::vector<GarmentRequest> requests, SchedulerSettings settings = {},
-                   GarmentProfile p = fiveLevels()) {
+    auto run = [&](const std::vector<GarmentRequest>& requests, const SchedulerSettings& settings = {},
+                   const GarmentProfile& p = fiveLevels()) {
         std::vector<GarmentSchedule> out(requests.size());
         return scheduleGarments(settings, Span<const SchedulerCamera>(&camera, 1),
                                 Span<const GarmentProfile>(&p, 1), requests, out);

@@ -222,16 +222,16 @@ Result<Mannequin> buildMannequin(const MannequinParams& p) {
     for (int side = 0; side < 2; ++side) {
         const double sx = side == 0 ? 1.0 : -1.0;
         const Vec3 dir(sx * armDir.x(), armDir.y(), 0.0);
-        const int o = side == 0 ? 0 : 4;
-        pos[static_cast<std::size_t>(idx(J::LeftShoulder) + o)] = {sx * 0.03 * k, 0.80 * H, 0};
+        const std::size_t o = side == 0 ? 0 : 4;
+        pos[static_cast<std::size_t>(idx(J::LeftShoulder)) + o] = {sx * 0.03 * k, 0.80 * H, 0};
         const Vec3 shoulder(sx * shoulderX, 0.805 * H, 0);
-        pos[static_cast<std::size_t>(idx(J::LeftUpperArm) + o)] = shoulder;
-        pos[static_cast<std::size_t>(idx(J::LeftForearm) + o)] = shoulder + 0.17 * H * dir;
-        pos[static_cast<std::size_t>(idx(J::LeftHand) + o)] = shoulder + 0.315 * H * dir;
-        const int l = side == 0 ? 0 : 3;
-        pos[static_cast<std::size_t>(idx(J::LeftThigh) + l)] = {sx * thighX, 0.515 * H, 0};
-        pos[static_cast<std::size_t>(idx(J::LeftShin) + l)] = {sx * thighX, 0.285 * H, 0};
-        pos[static_cast<std::size_t>(idx(J::LeftFoot) + l)] = {sx * thighX, 0.048 * H, 0};
+        pos[static_cast<std::size_t>(idx(J::LeftUpperArm)) + o] = shoulder;
+        pos[static_cast<std::size_t>(idx(J::LeftForearm)) + o] = shoulder + 0.17 * H * dir;
+        pos[static_cast<std::size_t>(idx(J::LeftHand)) + o] = shoulder + 0.315 * H * dir;
+        const std::size_t l = side == 0 ? 0 : 3;
+        pos[static_cast<std::size_t>(idx(J::LeftThigh)) + l] = {sx * thighX, 0.515 * H, 0};
+        pos[static_cast<std::size_t>(idx(J::LeftShin)) + l] = {sx * thighX, 0.285 * H, 0};
+        pos[static_cast<std::size_t>(idx(J::LeftFoot)) + l] = {sx * thighX, 0.048 * H, 0};
     }
     static const char* kNames[] = {"hips", "spine", "chest", "neck", "head",
                                    "shoulder_l", "upper_arm_l", "forearm_l", "hand_l",
@@ -305,7 +305,7 @@ Result<Mannequin> buildMannequin(const MannequinParams& p) {
 
     // A chain part: joint `self` from A to B, blending into `parent` across A and into `child`
     // across B within `band`.
-    const auto chainWeights = [&](J parent, J self, J child, Vec3 a, Vec3 b, double bandA, double bandB) {
+    const auto chainWeights = [&](J parent, J self, J child, const Vec3& a, const Vec3& b, double bandA, double bandB) {
         return [=](const Vec3& q, std::array<uint16_t, 4>& outJ, std::array<double, 4>& outW) {
             const Vec3 d = (b - a).normalized();
             const double wChild = child == J::Count ? 0.0 : downstreamWeight(q, b, d, bandB);

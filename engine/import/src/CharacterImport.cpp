@@ -134,7 +134,6 @@ Status Reader::readMeshes(const aiScene& scene) {
     // The mesh instances in node order (a mesh used by several nodes is instanced each time).
     struct Instance {
         const aiMesh* mesh;
-        unsigned int meshIndex;
         int32_t node;
     };
     std::vector<Instance> instances;
@@ -153,7 +152,7 @@ Status Reader::readMeshes(const aiScene& scene) {
                 return fail("more than " + std::to_string(kMaxBodyVertices) + " vertices or " +
                             std::to_string(kMaxBodyTriangles) + " triangles");
             }
-            instances.push_back({mesh, mi, static_cast<int32_t>(j)});
+            instances.push_back({mesh, static_cast<int32_t>(j)});
         }
     }
     if (instances.empty()) return fail("the scene has no triangle mesh");

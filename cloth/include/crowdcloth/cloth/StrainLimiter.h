@@ -30,7 +30,7 @@ class StrainLimiter {
 public:
     StrainLimiter() = default;
     /// `restPositions` (pattern coordinates, one per vertex) enable the tethers; may be empty.
-    StrainLimiter(uint32_t vertexCount, std::vector<LimitedEdge> edges, std::vector<Vec2> restPositions = {});
+    StrainLimiter(uint32_t vertexCount, const std::vector<LimitedEdge>& edges, std::vector<Vec2> restPositions = {});
 
     /// Runs up to `maxPasses` sweeps until no edge exceeds the limit by more than 1e-3 of it.
     /// Returns the number of sweeps run.
