@@ -252,6 +252,7 @@ struct SchedulerWorkspace::Buffers {
     std::vector<GarmentView> garments;
     std::vector<int> versions;
     std::vector<Move> heap;
+    std::vector<double> nearW;  ///< per camera: clip w on its near plane (nearPlaneW)
 };
 
 SchedulerWorkspace::SchedulerWorkspace() : mBuffers(std::make_unique<Buffers>()) {}
@@ -381,7 +382,10 @@ Status SchedulerSettings::validate() const {
     return Status::ok();
 }
 
-ScreenProjection projectSphere(const SchedulerCamera& camera, const Vec3& center, double radius) {
+namespace {
+
+/// projectSphere with the camera's near-plane w already found (once per camera and frame).
+ScreenProjection projectSphereNear(const SchedulerCamera& camera, double nearW, const Vec3& center, double radius) {
     // Frustum planes from the rows of the view-projection matrix (Gribb & Hartmann 2001).
     const Mat4& m = camera.viewProjection;
     const Eigen::Vector4d p(center.x(), center.y(), center.z(), 1.0);
@@ -401,9 +405,15 @@ ScreenProjection projectSphere(const SchedulerCamera& camera, const Vec3& center
     // camera inside a skirt) is seen at most at the near plane's scale, not at a vanishing depth.
     const double depthScale = m.row(3).head<3>().norm();
     const double nearest = m.row(3).dot(p) - radius * depthScale;
-    const double w = std::max(nearest, std::max(nearPlaneW(m), 1e-3 * std::max(depthScale, 1e-9)));
+    const double w = std::max(nearest, std::max(nearW, 1e-3 * std::max(depthScale, 1e-9)));
     out.pixelsPerMetre = m.row(1).head<3>().norm() / w * 0.5 * camera.viewportHeight;
     return out;
+}
+
+} // namespace
+
+ScreenProjection projectSphere(const SchedulerCamera& camera, const Vec3& center, double radius) {
+    return projectSphereNear(camera, nearPlaneW(camera.viewProjection), center, radius);
 }
 
 Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerCamera> cameras,
@@ -425,6 +435,8 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
     std::sort(byId.begin(), byId.end(),
               [&](std::size_t a, std::size_t b) { return requests[a].id < requests[b].id; });
 
+    w.nearW.clear();
+    for (const SchedulerCamera& camera : cameras) w.nearW.push_back(nearPlaneW(camera.viewProjection));
     std::vector<GarmentView>& garments = w.garments;
     garments.assign(requests.size(), GarmentView{});
     for (std::size_t k = 0; k < byId.size(); ++k) {
@@ -432,8 +444,8 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
         GarmentView& g = garments[k];
         g.request = &r;
         g.profile = &profiles[r.profile];
-        for (const SchedulerCamera& camera : cameras) {
-            const ScreenProjection p = projectSphere(camera, r.center, r.radius);
+        for (std::size_t c = 0; c < cameras.size(); ++c) {
+            const ScreenProjection p = projectSphereNear(cameras[c], w.nearW[c], r.center, r.radius);
             if (!p.visible) continue;
             g.visible = true;
             g.pixelsPerMetre = std::max(g.pixelsPerMetre, p.pixelsPerMetre);
