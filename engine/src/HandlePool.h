@@ -56,6 +56,40 @@ public:
 
     std::size_t size() const { return mSlots.size() - mFree.size(); }
 
+    // The layout (every slot's generation, the free slots in reuse order), for snapshots: a pool
+    // rebuilt with it hands out the same handles from then on.
+    uint32_t slotCount() const { return static_cast<uint32_t>(mSlots.size()); }
+    uint32_t generationAt(uint32_t slot) const { return mSlots[slot].generation; }
+    const std::vector<uint32_t>& freeSlots() const { return mFree; }
+    /// Empties the pool into `generations.size()` slots, `free` of them free (in reuse order); the
+    /// others are filled by put(). False when `free` repeats or names a slot out of range.
+    bool resetLayout(const std::vector<uint32_t>& generations, const std::vector<uint32_t>& free) {
+        std::vector<uint8_t> isFree(generations.size(), 0);
+        for (uint32_t f : free) {
+            if (f >= generations.size() || isFree[f]) return false;
+            isFree[f] = 1;
+        }
+        mSlots.clear();
+        mSlots.resize(generations.size());
+        for (std::size_t i = 0; i < generations.size(); ++i) mSlots[i].generation = generations[i];
+        mFree = free;
+        return true;
+    }
+    /// Fills a slot resetLayout() left live; false when it is free, filled or out of range.
+    bool put(uint32_t slot, std::unique_ptr<T> object) {
+        if (slot >= mSlots.size() || mSlots[slot].object) return false;
+        for (uint32_t f : mFree)
+            if (f == slot) return false;
+        mSlots[slot].object = std::move(object);
+        return true;
+    }
+    /// Every slot that is not free holds an object (after resetLayout() and put()).
+    bool complete() const {
+        std::size_t live = 0;
+        for (const Slot& s : mSlots) live += s.object != nullptr;
+        return live + mFree.size() == mSlots.size();
+    }
+
 private:
     struct Slot {
         std::unique_ptr<T> object;

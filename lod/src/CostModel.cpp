@@ -52,4 +52,31 @@ void CostModel::record(uint32_t asset, int level, SolverChoice solver, Collision
     l.mean += rate * (measuredMs - l.mean);
 }
 
+std::vector<CostModel::LearnedCost> CostModel::learned() const {
+    std::vector<LearnedCost> out;
+    out.reserve(mLearned.size());
+    for (const auto& [key, l] : mLearned) {
+        const auto& [asset, level, solver, collision] = key;
+        out.push_back({asset, level, SolverChoice(solver), CollisionDetail(collision), l.mean, l.deviation});
+    }
+    return out;
+}
+
+Status CostModel::setLearned(Span<const LearnedCost> entries) {
+    std::map<std::tuple<uint32_t, int, int, int>, Learned> learned;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const LearnedCost& e = entries[i];
+        const bool valid = e.level >= 0 && int(e.solver) < kSolverChoiceCount &&
+                           int(e.collision) < kCollisionDetailCount &&
+                           std::isfinite(e.meanMs) && e.meanMs > 0.0 && std::isfinite(e.deviationMs) &&
+                           e.deviationMs >= 0.0;
+        if (!valid) return Status::invalidArgument("learned cost " + std::to_string(i) + " is out of range");
+        if (!learned.try_emplace({e.asset, e.level, int(e.solver), int(e.collision)}, Learned{e.meanMs, e.deviationMs})
+                 .second)
+            return Status::invalidArgument("learned cost " + std::to_string(i) + " repeats its key");
+    }
+    mLearned = std::move(learned);
+    return Status::ok();
+}
+
 } // namespace cc::lod

@@ -3,7 +3,9 @@
 #include <cstdint>
 #include <map>
 #include <tuple>
+#include <vector>
 
+#include "crowdcloth/core/Span.h"
 #include "crowdcloth/core/Status.h"
 #include "crowdcloth/lod/CrowdScheduler.h"
 
@@ -50,6 +52,20 @@ public:
                      std::size_t vertexCount, int substeps, int iterations) const;
     /// Feeds a measured update time [ms] (ignored in Fixed mode, and when not finite or <= 0).
     void record(uint32_t asset, int level, SolverChoice solver, CollisionDetail collision, double measuredMs);
+
+    /// One learned prediction, for snapshots (World::saveState): what record() has averaged.
+    struct LearnedCost {
+        uint32_t asset = 0;
+        int level = 0;
+        SolverChoice solver = SolverChoice::SubstepNewton;
+        CollisionDetail collision = CollisionDetail::None;
+        double meanMs = 0.0;       ///< [ms] > 0
+        double deviationMs = 0.0;  ///< [ms] >= 0
+    };
+    /// Every learned entry, in key order.
+    std::vector<LearnedCost> learned() const;
+    /// Replaces the learned entries; names the first invalid one (nothing changes then).
+    Status setLearned(Span<const LearnedCost> entries);
 
 private:
     double formulaMs(SolverChoice solver, CollisionDetail collision, std::size_t vertexCount, int substeps,
