@@ -134,7 +134,7 @@ cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
             gCreateError = world.status().message();
             return cc::detail::toCStatus(world.status().code());
         }
-        *out_world = new cc_world{world.value(), {}, {}};
+        *out_world = new cc_world{world.value(), {}, {}, {}};
         return CC_OK;
     } catch (const std::bad_alloc&) {
         gCreateError = "out of memory";
@@ -414,6 +414,25 @@ cc_status cc_world_state_hash(const cc_world* w, uint64_t* out_hash) {
     CC_CHECK_OUT(w, out_hash, "out_hash");
     *out_hash = w->world->stateHash();
     return CC_OK;
+}
+
+cc_status cc_world_save_state(cc_world* w, const void** out_data, size_t* out_size) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out_data, "out_data");
+    CC_CHECK_OUT(w, out_size, "out_size");
+    return guarded(w, [&] {
+        auto saved = w->world->saveState();
+        if (!saved.isOk()) return report(w, saved.status());
+        w->snapshot = std::move(saved).value();
+        *out_data = w->snapshot.data();
+        *out_size = w->snapshot.size();
+        return report(w, cc::Status::ok());
+    });
+}
+
+cc_status cc_world_restore_state(cc_world* w, const void* data, size_t size) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->restoreState(data, size)); });
 }
 
 } // extern "C"

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/crowdcloth.h"
@@ -11,6 +13,7 @@ struct cc_world {
     cc::World* world = nullptr;
     std::string lastError;
     std::string json;
+    std::vector<uint8_t> snapshot;  ///< cc_world_save_state's bytes
 };
 
 namespace cc::detail {

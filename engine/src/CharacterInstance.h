@@ -12,6 +12,9 @@
 
 namespace cc::detail {
 
+class SnapshotReader;
+class SnapshotWriter;
+
 /// One animated character: its root in the world, its clip, and the pose buffers its garments
 /// read. Garments simulate in this character's root frame (local space, as engines run skinned
 /// cloth), so walking moves them without moving their simulation.
@@ -79,6 +82,11 @@ struct CharacterInstance {
     bool meshColliderRebuiltAt(double time) const { return mMeshColliderRebuilt == time; }
     /// A spare collider of the same body, moved to this character's pose on first use (a reset).
     void adoptMeshCollider(std::unique_ptr<collision::BodyCollider> collider);
+
+    /// Snapshots (WorldSnapshot.cpp): what carries to the next frame (clocks, root motion, the
+    /// host's last vertices, the colliders' last poses and times), after `body` and its ids are set.
+    void saveState(SnapshotWriter& out) const;
+    Status restoreState(SnapshotReader& in, collision::CollisionDevice& device);
 
 private:
     Status updatePoseLocked();

@@ -12,7 +12,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kMorphFrames = 8;  ///< frames over which a level switch's render difference fades
 constexpr double kMaxCorrectionReach = 0.25;  ///< [m] most a correction looks for the body
 constexpr int kCorrectionLimitPasses = 32;    ///< sweeps of the strain limit after the body's pushes
 constexpr double kSurfaceFraction = 0.05;     ///< of the thickness: where the last push puts a vertex

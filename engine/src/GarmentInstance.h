@@ -16,6 +16,9 @@
 
 namespace cc::detail {
 
+class SnapshotReader;
+class SnapshotWriter;
+
 /// What a garment update needs from the world this frame.
 struct GarmentUpdateContext {
     double dt = 0.0;                                ///< [s] the update's step: the time since the
@@ -49,6 +52,8 @@ struct GarmentUpdateReport {
 /// lane(), finish() (position corrections against the body, self-collision).
 class GarmentInstance {
 public:
+    static constexpr int kMorphFrames = 8;  ///< frames over which a level switch's render difference fades
+
     /// Places the asset on the character's body and starts at level 0, at rest in the body's
     /// current pose.
     static Result<std::unique_ptr<GarmentInstance>> create(std::shared_ptr<const CookedAsset> asset,
@@ -74,7 +79,6 @@ public:
     double lastYawRate = 0.0;       ///< [rad/s] and its heading's rate
     std::string lastError;          ///< why the last failed update failed
     GarmentUpdateContext context;   ///< this frame's update inputs (set before prepare())
-    cloth::SubstepLaneReport solveReport;  ///< what the batched solve did to this garment
 
     /// Moves the state to another uniform level through the cooked transfers (mass and momentum
     /// conserved); the render mesh fades out the difference so nothing pops. Returns whether the
@@ -106,6 +110,13 @@ public:
     /// [m] largest distance of an attached vertex from its target after the last update.
     double attachmentError() const;
     uint64_t hash() const;
+
+    /// Snapshots (WorldSnapshot.cpp): the state that carries to the next frame (level, positions
+    /// and velocities, a level switch's fade, schedule, stats and clocks; not the attachment
+    /// targets, which each update makes anew), into a garment create() made for the same asset and
+    /// character.
+    void saveState(SnapshotWriter& out) const;
+    Status restoreState(SnapshotReader& in);
 
 private:
     GarmentInstance() = default;

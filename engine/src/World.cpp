@@ -126,4 +126,14 @@ const FrameStats& World::frameStats() const { return impl(this).frameStats(); }
 std::string World::statsJson() const { return impl(this).statsJson(); }
 uint64_t World::stateHash() const { return impl(this).stateHash(); }
 
+Result<std::vector<uint8_t>> World::saveState() const {
+    if (Status s = outsideStep(this, "saveState"); !s) return s;
+    return impl(this).saveState();
+}
+
+Status World::restoreState(const void* data, std::size_t size) {
+    if (Status s = outsideStep(this, "restoreState"); !s) return s;
+    return impl(this).restoreState(data, size);
+}
+
 } // namespace cc

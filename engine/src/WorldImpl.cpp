@@ -69,11 +69,9 @@ constexpr double kOverBudgetWeight = 3.0;
 constexpr double kMinBudgetScale = 0.2;
 constexpr double kMaxBudgetScale = 1.5;  ///< measured costs may miss what the threads overlap
 constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this long is dropped
-/// A mesh collider no garment asked for this long [s] goes back to its body's spares, at most this
-/// many per body (each holds ~1.5 MB for a 6k-triangle body): enough for the characters that move
-/// in and out of the camera's near field at once.
+/// A mesh collider no garment asked for this long [s] goes back to its body's spares (at most
+/// kMaxSpareColliders).
 constexpr double kColliderIdleSeconds = 1.0;
-constexpr std::size_t kMaxSpareColliders = 8;
 constexpr std::size_t kPrebuiltColliders = 4;
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
@@ -159,6 +157,20 @@ Result<BodyId> WorldImpl::addBody(BodyAsset body) {
     return BodyId{h.index1, h.generation};
 }
 
+Status WorldImpl::prepareBodyTopology(BodyRecord& body) {
+    if (body.topology) return Status::ok();
+    auto topology = collision::BodyTopology::build(body.body->mesh().triangles, body.body->mesh().bindPositions);
+    if (!topology.isOk()) return Status::invalidArgument("body mesh: " + topology.status().message());
+    body.topology = std::move(topology).value();
+    // Spare colliders now, while nothing is timed: the first builds of a run are the slowest.
+    for (std::size_t k = 0; k < kPrebuiltColliders; ++k) {
+        auto made = collision::BodyCollider::create(*mDevice, body.topology, body.body->mesh().bindPositions);
+        if (!made.isOk()) return Status::invalidArgument("body mesh: " + made.status().message());
+        body.spareColliders.push_back(std::move(made).value());
+    }
+    return Status::ok();
+}
+
 Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
     BodyRecord* body = mBodies.get(desc.body);
     if (!body) return staleHandle("CharacterDesc.body");
@@ -168,17 +180,7 @@ Result<CharacterId> WorldImpl::addCharacter(const CharacterDesc& desc) {
     if (position.cwiseAbs().maxCoeff() > kMaxCoordinate)
         return Status::invalidArgument("CharacterDesc.position beyond " + std::to_string(kMaxCoordinate) + " m");
     if (Status s = checkPlaybackRate("CharacterDesc.playbackRate", desc.playbackRate); !s) return s;
-    if (!body->topology) {
-        auto topology = collision::BodyTopology::build(body->body->mesh().triangles, body->body->mesh().bindPositions);
-        if (!topology.isOk()) return Status::invalidArgument("addCharacter: body mesh: " + topology.status().message());
-        body->topology = std::move(topology).value();
-        // Spare colliders now, while nothing is timed: the first builds of a run are the slowest.
-        for (std::size_t k = 0; k < kPrebuiltColliders; ++k) {
-            auto made = collision::BodyCollider::create(*mDevice, body->topology, body->body->mesh().bindPositions);
-            if (!made.isOk()) return Status::invalidArgument("addCharacter: body mesh: " + made.status().message());
-            body->spareColliders.push_back(std::move(made).value());
-        }
-    }
+    if (Status s = prepareBodyTopology(*body); !s) return Status::invalidArgument("addCharacter: " + s.message());
     auto c = std::make_unique<CharacterInstance>();
     c->body = body->body;
     c->bodyId = desc.body;
@@ -447,7 +449,6 @@ void WorldImpl::simulateBatch(Batch& batch) {
         const FrameItem& item = mItems[batch.items[k]];
         GarmentInstance& g = *item.garment;
         const auto own = Clock::now();
-        g.solveReport = batch.reports[k];
         Status result = status ? batch.reports[k].status : status;
         GarmentUpdateReport report;
         report.collisionMs = g.stats.collisionMs;

@@ -54,12 +54,18 @@ public:
     const FrameStats& frameStats() const { return mFrameStats; }
     std::string statsJson() const;
     uint64_t stateHash() const;
+    // Snapshots (WorldSnapshot.cpp).
+    Result<std::vector<uint8_t>> saveState() const;
+    Status restoreState(const void* data, std::size_t size);
 
 private:
     WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device);
     struct AssetRecord {
         std::shared_ptr<const CookedAsset> asset;
     };
+    /// Spare mesh colliders a body keeps (each holds ~1.5 MB for a 6k-triangle body): enough for
+    /// the characters that move in and out of the camera's near field at once.
+    static constexpr std::size_t kMaxSpareColliders = 8;
     struct BodyRecord {
         std::shared_ptr<const BodyAsset> body;
         std::shared_ptr<const collision::BodyTopology> topology;  ///< its mesh's, cooked with its first character
@@ -72,6 +78,8 @@ private:
         ClothAssetDesc desc;
         std::vector<std::pair<std::shared_ptr<const BodyAsset>, AssetId>> fitted;
     };
+    /// The body's collision topology and first spare colliders, made with its first character.
+    Status prepareBodyTopology(BodyRecord& body);
     /// The design's asset fitted to `body`, cooked on first use.
     Result<AssetId> fittedAsset(DesignRecord& design, const std::shared_ptr<const BodyAsset>& body);
     /// One garment's slot in this frame's work lists.

@@ -1,6 +1,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -230,6 +231,21 @@ TEST(CApi, RoundTripMatchesTheCppApi) {
         ASSERT_EQ(cc_world_get_stats_json(world, &json), CC_OK);
         EXPECT_NE(std::string(json).find("\"garmentStats\""), std::string::npos);
         ASSERT_EQ(cc_world_state_hash(world, &cHash), CC_OK);
+        // Saved, stepped, restored and stepped again: where the first steps left it.
+        const void* data = nullptr;
+        size_t size = 0;
+        EXPECT_EQ(cc_world_save_state(world, nullptr, &size), CC_INVALID_ARGUMENT);
+        ASSERT_EQ(cc_world_save_state(world, &data, &size), CC_OK) << cc_world_last_error(world);
+        const std::vector<uint8_t> saved(static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + size);
+        uint64_t ahead = 0, again = 0;
+        for (int f = 0; f < 10; ++f) ASSERT_EQ(cc_world_step(world, 1.0 / 60.0), CC_OK);
+        ASSERT_EQ(cc_world_state_hash(world, &ahead), CC_OK);
+        ASSERT_EQ(cc_world_restore_state(world, saved.data(), saved.size()), CC_OK) << cc_world_last_error(world);
+        for (int f = 0; f < 10; ++f) ASSERT_EQ(cc_world_step(world, 1.0 / 60.0), CC_OK);
+        ASSERT_EQ(cc_world_state_hash(world, &again), CC_OK);
+        EXPECT_EQ(again, ahead);
+        EXPECT_EQ(cc_world_restore_state(world, saved.data(), size / 2), CC_INVALID_ARGUMENT);
+        EXPECT_NE(std::string(cc_world_last_error(world)).find("truncated"), std::string::npos) << cc_world_last_error(world);
         cc_world_destroy(world);
     }
     {

@@ -74,7 +74,7 @@ TEST(HostJobs, TasksOnOneTwoAndFourHostThreadsGiveTheStepHash) {
 TEST(HostJobs, TheCApiGivesTheStepHash) {
     const auto reference = crowdHashes([](World& w) { ASSERT_TRUE(w.step(1.0 / 60.0).isOk()); });
     const auto hashes = crowdHashes([](World& w) {
-        cc_world c{&w, {}, {}}; // the C handle over this world
+        cc_world c{&w, {}, {}, {}}; // the C handle over this world
         ASSERT_EQ(cc_world_begin_step(&c, 1.0 / 60.0), CC_OK) << c.lastError;
         do {
             runOnHostThreads(2, cc_world_step_task_count(&c),

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "crowdcloth/Export.h"
 #include "crowdcloth/Ids.h"
@@ -340,6 +342,20 @@ public:
     std::string statsJson() const;
     /// Bitwise digest of every garment's simulated state, for determinism tests and replays.
     uint64_t stateHash() const;
+
+    /// Everything that carries from one frame to the next, as bytes (a save game, a replay's
+    /// checkpoint, a host's rollback): characters and garments with their handles, clocks,
+    /// simulated state, levels and schedule, colliders' last poses, cameras, budget and learned
+    /// costs. Not the cooked data: assets and bodies are checked by fingerprint, not stored.
+    /// The format is versioned and checksummed, in this machine's byte order.
+    Result<std::vector<uint8_t>> saveState() const;
+    /// Replaces this World's characters and garments (and clocks, cameras, budget, learned costs)
+    /// with a snapshot's. The World must have been made with the same WorldDesc (threads and batch
+    /// size aside) and have the snapshot's assets and bodies added in the same order; then the run
+    /// continues bit for bit as the saved one did (with the fixed cost model), and the snapshot's
+    /// handles are valid here. A truncated, corrupted, foreign or mismatched snapshot gives an
+    /// error naming what is wrong, and the World keeps its state.
+    Status restoreState(const void* data, std::size_t size);
 
 protected:
     World() = default;

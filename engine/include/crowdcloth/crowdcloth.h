@@ -11,6 +11,7 @@
  * Pointers returned by the world stay valid until the next cc_world_step() or removal. */
 #pragma once
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "crowdcloth/Export.h"
@@ -230,6 +231,11 @@ CC_API cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats*
 /* JSON text of the last frame's stats; valid until the next call on the world. */
 CC_API cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
 CC_API cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
+/* Snapshots (World::saveState / restoreState): the world's state as bytes, valid until the next
+   call on the world; and a snapshot's state restored into a world made with the same desc,
+   assets and bodies (its characters and garments replaced; on error nothing changes). */
+CC_API cc_status cc_world_save_state(cc_world* world, const void** out_data, size_t* out_size);
+CC_API cc_status cc_world_restore_state(cc_world* world, const void* data, size_t size);
 
 #ifdef __cplusplus
 }
