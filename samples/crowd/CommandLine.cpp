@@ -72,8 +72,11 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
     auto* tradeoff = app.add_flag("--tradeoff", o.tradeoff, "Study: a cape at each uniform level against the "
                                                             "finest (vertices, ms, RMS and max distance)");
     auto* batch = app.add_flag("--batch", o.batch, "Study: 256 capes at level 3 stepped one by one and in batches");
-    scaling->excludes(tradeoff)->excludes(batch);
-    tradeoff->excludes(batch);
+    auto* snapshot = app.add_flag("--snapshot", o.snapshot, "Study: the crowd saved after 5 s, restored into a fresh "
+                                                            "World, both run on 2 s (size, ms, identical frames)");
+    scaling->excludes(tradeoff)->excludes(batch)->excludes(snapshot);
+    tradeoff->excludes(batch)->excludes(snapshot);
+    batch->excludes(snapshot);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -27,7 +27,7 @@ struct RunOptions {
     int supersample = 1;
     int threads = 0;
     bool fullResolution = false;  ///< every garment at its finest level, every frame (no budget)
-    bool scaling = false, tradeoff = false, batch = false;
+    bool scaling = false, tradeoff = false, batch = false, snapshot = false;
 };
 
 /// Parses argv into `options`. Returns -1 to go on, else the exit code: 0 after --help, non-zero

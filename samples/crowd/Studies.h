@@ -40,5 +40,7 @@ int runScaling(double budgetMs, int threads);
 int runTradeoff();
 /// 256 capes at level 3 on walking mannequins stepped one by one and in batches (BAR batch).
 int runBatchBench();
+/// A plaza crowd saved mid-run, restored into a fresh World, both run on (BAR snapshot).
+int runSnapshotStudy(int characters, int threads);
 
 } // namespace crowd

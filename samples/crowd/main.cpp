@@ -13,6 +13,7 @@
 //                        resolution, and the 1 -> 2 thread speed-up
 //   cc_crowd --tradeoff  a cape on a walking mannequin at each uniform level against the finest
 //   cc_crowd --batch     256 capes at level 3 stepped one by one and in batches (BAR batch)
+//   cc_crowd --snapshot  the crowd saved, restored into a fresh World, both run on (BAR snapshot)
 //
 // Writes into --out (default crowd_out): frames/frame_NNNNN.png (every render-every frame, title
 // strip with the frame's numbers), crowd.mp4 (H.264 at 60/render-every fps, unless --no-video),
@@ -203,5 +204,6 @@ int main(int argc, char** argv) {
     if (o.scaling) return crowd::runScaling(o.scene.budgetMs, o.threads);
     if (o.tradeoff) return crowd::runTradeoff();
     if (o.batch) return crowd::runBatchBench();
+    if (o.snapshot) return crowd::runSnapshotStudy(o.scene.plaza.characters, o.threads);
     return runCrowd(o);
 }

@@ -1,6 +1,7 @@
 // Fuzz target: any sequence of World calls with any values (NaN, infinities, huge, negative,
 // stale handles, broken meshes) is refused with a message or carried out; never a crash, a hang,
-// a leak or a non-finite render mesh. Built for libFuzzer with -DCC_BUILD_FUZZERS=ON (clang), and
+// a leak or a non-finite render mesh; and the World's snapshot, damaged, is refused or taken, and
+// restores the World exactly when whole. Built for libFuzzer with -DCC_BUILD_FUZZERS=ON (clang), and
 // always as cc_fuzz_world_replay, which runs the committed corpus (tests/fuzz/corpus) in CTest.
 #include <cmath>
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "crowdcloth/World.h"
+#include "crowdcloth/core/Hash.h"
 
 namespace {
 
@@ -63,6 +65,31 @@ void checkFinite(const cc::RenderMeshView& m, const char* what) {
             std::fprintf(stderr, "FuzzWorld: %s has a non-finite render vertex %u\n", what, i / 3);
             std::abort();
         }
+}
+
+/// The World saved, a copy with one byte changed (its checksum made to match, so the reader
+/// meets it) restored: refused by name or taken, never a crash; then the good copy restored
+/// puts the World back where it was.
+void checkSnapshot(cc::World& world, Input& in) {
+    auto saved = world.saveState();
+    if (!saved.isOk()) return;
+    const std::vector<uint8_t> bytes = std::move(saved).value();
+    const uint64_t hash = world.stateHash();
+    constexpr std::size_t kHeader = 32, kChecksumAt = 24;  // WorldSnapshot.cpp's header
+    std::vector<uint8_t> bad = bytes;
+    if (bad.size() > kHeader) {
+        bad[kHeader + in.u32() % (bad.size() - kHeader)] ^= uint8_t(1 + in.byte() % 255);
+        const uint64_t sum = cc::hashBytes(bad.data() + kHeader, bad.size() - kHeader);
+        std::memcpy(bad.data() + kChecksumAt, &sum, sizeof sum);
+    }
+    if (const cc::Status s = world.restoreState(bad.data(), bad.size()); !s && s.message().find("restoreState") != 0) {
+        std::fprintf(stderr, "FuzzWorld: a refused snapshot's message does not name the call: %s\n", s.message().c_str());
+        std::abort();
+    }
+    if (const cc::Status s = world.restoreState(bytes.data(), bytes.size()); !s || world.stateHash() != hash) {
+        std::fprintf(stderr, "FuzzWorld: the World's own snapshot did not restore it: %s\n", s.message().c_str());
+        std::abort();
+    }
 }
 
 void run(Input& in) {
@@ -169,6 +196,7 @@ void run(Input& in) {
     for (cc::CharacterId c : characters)
         if (auto mesh = world->characterMesh(c); mesh.isOk()) checkFinite(mesh.value(), "a body");
     (void)world->statsJson();
+    checkSnapshot(*world, in);
     cc::World::destroy(world);
 }
 
