@@ -18,7 +18,7 @@
 // Writes into --out (default crowd_out): frames/frame_NNNNN.png (every render-every frame, title
 // strip with the frame's numbers), crowd.mp4 (H.264 at 60/render-every fps, unless --no-video),
 // summary.json (what is printed at the end), frames.csv (one row per frame: ms, budget, garments per
-// level, updated, visible, predicted error in view) and summary.png (its plot, scripts/plot-summary.py),
+// level, updated, visible, predicted error in view, resident and heap MB) and summary.png (its plot, scripts/plot-summary.py),
 // frame_stats.jsonl with --frame-stats (World::statsJson() per frame), export/frame_NNNNN.obj|glb
 // with --export. Exit code: 0; 2 for a bad command line or scene file; 1 for a failed run; 3 when
 // garment updates failed.
