@@ -66,6 +66,9 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
                                                 "OUT/frame_stats.jsonl, one JSON line per frame");
     app.add_flag("--full-resolution", o.fullResolution, "Every garment at its finest level and updated every frame "
                                                         "(no budget, no LOD): the cost LOD saves");
+    app.add_option("--churn", o.churn, "Share of the characters that leave per second, each replaced by an identical "
+                                       "one (new handles; a soak's joins and leaves)")
+        ->check(CLI::Range(0.0, 60.0));
     app.add_option("--threads", o.threads, "Threads stepping garments (0 = all)")->check(CLI::Range(0, 1024));
     auto* scaling = app.add_flag("--scaling", o.scaling, "Study: crowd scaling 10 -> 1000 characters, with LOD "
                                                          "and at full resolution, and 1 -> 2 threads");

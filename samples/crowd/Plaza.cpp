@@ -199,13 +199,29 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         const auto* palette = kind == 0 ? kCapeColours : kind == 1 ? kSkirtColours : kind == 2 ? kDressColours
                                                                                              : kPonchoColours;
         plaza.mWalkers.push_back(w);
+        plaza.mJoiners.push_back({c, hero ? heroCape : variants[kind][variant], gd});
         plaza.mCharacters.push_back(character.value());
         plaza.mGarments.push_back(garment.value());
         plaza.mKinds.push_back(int(kinds[kind]));
         plaza.mColours.push_back(palette[int(unit(rng) * 3.0) % 3]);
     }
     plaza.mRoots.resize(plaza.mWalkers.size());
+    plaza.mClip = settings.clip;
     return plaza;
+}
+
+cc::Status Plaza::respawn(cc::World& world, std::size_t i) {
+    if (i >= mCharacters.size()) return cc::Status::invalidArgument("respawn: no character " + std::to_string(i));
+    if (cc::Status s = world.removeCharacter(mCharacters[i]); !s) return s;
+    Joiner& j = mJoiners[i];
+    if (j.character.clipIndex < 0 && !mClip.empty()) j.character.clip = mClip.c_str();
+    auto character = world.addCharacter(j.character);
+    if (!character.isOk()) return character.status();
+    auto garment = world.addGarment(j.asset, character.value(), j.garment);
+    if (!garment.isOk()) return garment.status();
+    mCharacters[i] = character.value();
+    mGarments[i] = garment.value();
+    return cc::Status::ok();
 }
 
 cc::Status Plaza::update(cc::World& world, double t, int viewportWidth, int viewportHeight) {

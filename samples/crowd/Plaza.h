@@ -51,6 +51,10 @@ class Plaza {
 public:
     static cc::Result<Plaza> create(cc::World& world, const PlazaSettings& settings);
 
+    /// Character i leaves the world with its garment and an identical one joins in its place
+    /// (new handles; a soak's churn). Its garment starts again from the fitted drape.
+    cc::Status respawn(cc::World& world, std::size_t i);
+
     /// Moves every character to where it is at time t [s] and points the camera.
     cc::Status update(cc::World& world, double t, int viewportWidth, int viewportHeight);
 
@@ -76,6 +80,13 @@ private:
     std::vector<Walker> mWalkers;
     std::vector<cc::CharacterId> mCharacters;
     std::vector<cc::GarmentId> mGarments;
+    struct Joiner {  ///< how character i was added, to add it again (respawn)
+        cc::CharacterDesc character;
+        cc::AssetId asset;
+        cc::GarmentDesc garment;
+    };
+    std::vector<Joiner> mJoiners;
+    std::string mClip;  ///< the imported characters' clip (their descs point into it)
     std::vector<int> mKinds;
     std::vector<std::array<float, 3>> mColours;
     std::vector<CameraKey> mCamera;

@@ -132,8 +132,15 @@ int runCrowd(const RunOptions& o) {
         crowd::Progress progress(frames);
         std::vector<cc::GarmentStats> garments(plaza.value().garments().size());
         uint32_t exported = 0;
+        const std::size_t crowdSize = plaza.value().characters().size();
+        uint64_t churned = 0;
         for (int f = 1; f <= frames; ++f) {
             const double t = f / 60.0;
+            // Churn: characters leave and identical ones join, round the crowd (the close-up's
+            // character, number 0, stays).
+            for (; crowdSize > 1 && double(churned) < o.churn * double(crowdSize) * t; ++churned)
+                if (cc::Status s = plaza.value().respawn(*world, 1 + churned % (crowdSize - 1)); !s)
+                    return fail("churn: " + s.message());
             if (cc::Status s = plaza.value().update(*world, t, scene.width, scene.height); !s) return fail(s.message());
             if (cc::Status s = world->step(1.0 / 60.0); !s) return fail("step: " + s.message());
             for (std::size_t i = 0; i < garments.size(); ++i) {

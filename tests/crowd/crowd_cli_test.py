@@ -6,6 +6,7 @@ tests/crowd/CMakeLists.txt).
     crowd_cli_test.py reject PATTERN CC_CROWD ARGS  exits non-zero, stderr matches PATTERN
     crowd_cli_test.py roundtrip CC_CROWD OUT_DIR    --write-scene output reads back as the same scene and crowd
     crowd_cli_test.py export CC_CROWD OUT_DIR       --export obj and glb write every character's body and garment
+    crowd_cli_test.py churn CC_CROWD OUT_DIR        --churn replaces characters mid-run; frames.csv logs memory
 """
 import csv
 import json
@@ -58,6 +59,17 @@ def test_run(exe, out):
     with open(os.path.join(out, "frame_stats.jsonl")) as f:
         lines = [json.loads(line) for line in f]
     check(len(lines) == 60, f"frame_stats.jsonl has {len(lines)} lines, not 60")
+
+
+def test_churn(exe, out):
+    # 12 characters, twice replaced each second: 24 leave and join during the second.
+    s = short_run(exe, out, "--no-render", "--churn", "2")
+    check(s["failedUpdates"] == 0, f"{s['failedUpdates']} failed updates with churn")
+    with open(os.path.join(out, "frames.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    check(len(rows) == 60, f"frames.csv has {len(rows)} rows, not 60")
+    for key in ["residentMb", "heapMb"]:
+        check(all(float(r[key]) > 0 for r in rows), f"frames.csv '{key}' is not positive in every row")
 
 
 def test_reject(pattern, exe, args):
@@ -121,6 +133,8 @@ def main():
         test_roundtrip(*args)
     elif command == "export":
         test_export(*args)
+    elif command == "churn":
+        test_churn(*args)
     else:
         sys.exit(f"unknown command {command!r}")
 
