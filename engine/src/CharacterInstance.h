@@ -15,6 +15,11 @@ namespace cc::detail {
 class SnapshotReader;
 class SnapshotWriter;
 
+/// [m] farthest a character may stand from the origin: float render meshes keep 1 m there.
+constexpr double kMaxCoordinate = 1e7;
+/// Clip seconds per world second a character may play at: [0, kMaxPlaybackRate].
+constexpr double kMaxPlaybackRate = 10.0;
+
 /// One animated character: its root in the world, its clip, and the pose buffers its garments
 /// read. Garments simulate in this character's root frame (local space, as engines run skinned
 /// cloth), so walking moves them without moving their simulation.

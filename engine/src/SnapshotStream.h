@@ -7,10 +7,24 @@
 #include <type_traits>
 #include <vector>
 
+#include "crowdcloth/core/Hash.h"
 #include "crowdcloth/core/Math.h"
 #include "crowdcloth/core/Status.h"
 
 namespace cc::detail {
+
+/// A snapshot's header: magic (8 bytes), format version and byte-order mark (4 each), payload size
+/// and the payload's FNV-1a checksum (8 each); the payload follows.
+constexpr std::size_t kSnapshotHeaderBytes = 32;
+constexpr std::size_t kSnapshotChecksumOffset = 24;
+
+/// Writes the checksum of the payload into the header (tests and fuzzers that damage a payload
+/// on purpose reseal it, so the reader meets the damage rather than the checksum).
+inline void sealSnapshot(std::vector<uint8_t>& bytes) {
+    if (bytes.size() < kSnapshotHeaderBytes) return;
+    const uint64_t sum = hashBytes(bytes.data() + kSnapshotHeaderBytes, bytes.size() - kSnapshotHeaderBytes);
+    std::memcpy(bytes.data() + kSnapshotChecksumOffset, &sum, sizeof sum);
+}
 
 /// Bytes of a World snapshot, written in the host's byte order (the header records it): scalars
 /// as their bytes, vectors as a u64 count then the elements, sections as a four-letter tag.

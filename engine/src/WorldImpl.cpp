@@ -76,14 +76,10 @@ constexpr std::size_t kPrebuiltColliders = 4;
 /// A garment at rest when unseen may sleep: below this kinetic energy per kilogram [J/kg]
 /// (~4 mm/s) with a still body.
 constexpr double kRestEnergy = 1e-5;
-/// [m] farthest a character may stand from the origin: float render meshes keep 1 m there.
-constexpr double kMaxCoordinate = 1e7;
 /// [s] the steps a World takes. Below a microsecond the solver's mass term (M / h^2 for substeps
 /// of h) leaves double precision (measured: every garment failed at dt = 1e-308), and no host
 /// needs it; above 0.1 s a garment would be asked to jump where no substep budget follows.
 constexpr double kMinStep = 1e-6, kMaxStep = 0.1;
-/// Clip seconds per world second a character may play at: [0, kMaxPlaybackRate].
-constexpr double kMaxPlaybackRate = 10.0;
 /// ok, or an error naming `what` and the range (NaN fails the comparison).
 Status checkPlaybackRate(const char* what, double rate) {
     if (rate >= 0.0 && rate <= kMaxPlaybackRate) return Status::ok();

@@ -3,6 +3,7 @@
 // checked by fingerprint and must be added to the restoring World as it was to the saving one
 // (as Jolt's StateRecorder restores bodies into a PhysicsSystem that already holds them).
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <type_traits>
@@ -19,8 +20,7 @@ constexpr char kMagic[8] = {'C', 'C', 'W', 'O', 'R', 'L', 'D', '\x1a'};  // 0x1a
 /// Bump on any change to what is written; a snapshot of another version is refused by name.
 constexpr uint32_t kFormatVersion = 1;
 constexpr uint32_t kByteOrderMark = 0x01020304u;
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;  // magic, version, byte order, payload size, checksum
-constexpr double kMaxCoordinate = 1e7;  ///< [m] as setCharacterRoot's
+constexpr std::size_t kHeaderBytes = kSnapshotHeaderBytes;
 
 template <typename T>
 void putField(SnapshotWriter& w, const T& v) {
@@ -131,6 +131,23 @@ uint32_t getLayout(SnapshotReader& r, HandlePool<T>& pool) {
 
 Status refused(const std::string& why) { return Status::invalidArgument("restoreState: " + why); }
 
+/// Reads a pool written as its layout, then per live slot the slot's index and what `make(slot)`
+/// reads (the object, or an error that refuses the snapshot; a reader failure stays in `r`).
+template <typename T, typename Make>
+Status readPool(SnapshotReader& r, HandlePool<T>& pool, const char* what, Make&& make) {
+    const uint32_t live = getLayout(r, pool);
+    for (uint32_t k = 0; k < live; ++k) {
+        const uint32_t slot = r.get<uint32_t>();
+        if (!r.ok()) break;
+        Result<std::unique_ptr<T>> made = make(slot);
+        if (!made.isOk()) return made.status();
+        if (!r.ok()) break;
+        if (!pool.put(slot, std::move(made).value())) r.fail(std::string(what) + "'s slot is free or taken twice");
+    }
+    if (r.ok() && !pool.complete()) r.fail(std::string(what) + " is missing");
+    return Status::ok();
+}
+
 } // namespace
 
 void CharacterInstance::saveState(SnapshotWriter& w) const {
@@ -169,7 +186,7 @@ Status CharacterInstance::restoreState(SnapshotReader& r, collision::CollisionDe
     yawRate = r.getFinite("yawRate");
     motionKnown = r.get<uint8_t>() != 0;
     const int clipCount = int(body->character().clips.size());
-    if (r.ok() && !(clip >= -1 && clip < clipCount && playbackRate >= 0.0 && playbackRate <= 10.0 &&
+    if (r.ok() && !(clip >= -1 && clip < clipCount && playbackRate >= 0.0 && playbackRate <= kMaxPlaybackRate &&
                     position.cwiseAbs().maxCoeff() <= kMaxCoordinate &&
                     previousPosition.cwiseAbs().maxCoeff() <= kMaxCoordinate))
         r.fail("a character's clip, playback rate or root is out of range");
@@ -289,21 +306,17 @@ Result<std::vector<uint8_t>> WorldImpl::saveState() const {
         w.put(bodyFingerprint(*b.body));
         w.put(uint64_t(b.spareColliders.size()));  // they decide whether a garment waits for a build
     });
-    auto bodySlot = [&](const std::shared_ptr<const BodyAsset>& body) {
-        int64_t found = -1;
-        mBodies.forEach([&](auto h, const BodyRecord& b) {
-            if (b.body == body) found = int64_t(h.index1) - 1;
-        });
-        return found;
-    };
+    // Each cooked asset as the (design, body) slots it was fitted for, in one pass over the designs.
+    std::vector<std::array<int64_t, 2>> origin(mAssets.slotCount(), {-1, -1});
+    mDesigns.forEach([&](auto d, const DesignRecord& design) {
+        for (const auto& [fittedBody, id] : design.fitted)
+            mBodies.forEach([&](auto b, const BodyRecord& body) {
+                if (body.body == fittedBody) origin[id.index1 - 1] = {int64_t(d.index1) - 1, int64_t(b.index1) - 1};
+            });
+    });
     w.tag("ASET");
-    w.put(uint64_t(mAssets.slotCount()));
-    for (uint32_t a = 0; a < mAssets.slotCount(); ++a) {
-        int64_t design = -1, body = -1;
-        mDesigns.forEach([&](auto h, const DesignRecord& d) {
-            for (const auto& [fittedBody, id] : d.fitted)
-                if (id.index1 == a + 1) design = int64_t(h.index1) - 1, body = bodySlot(fittedBody);
-        });
+    w.put(uint64_t(origin.size()));
+    for (const auto& [design, body] : origin) {
         if (design < 0 || body < 0)
             return Status::error(StatusCode::InvalidOperation,
                                  "saveState: a garment asset was fitted to a body that setBodyLandmarks has since "
@@ -359,9 +372,10 @@ Result<std::vector<uint8_t>> WorldImpl::saveState() const {
     for (char c : kMagic) header.put(c);
     header.put(kFormatVersion), header.put(kByteOrderMark);
     header.put(uint64_t(w.bytes().size()));
-    header.put(fingerprint(w));
+    header.put(uint64_t(0));  // the checksum, sealed below
     std::vector<uint8_t> out = std::move(header.bytes());
     out.insert(out.end(), w.bytes().begin(), w.bytes().end());
+    sealSnapshot(out);
     return out;
 }
 
@@ -484,10 +498,9 @@ Status WorldImpl::restoreState(const void* data, std::size_t size) {
     // whole snapshot has been read.
     r.expectTag("CHAR");
     HandlePool<CharacterInstance> characters;
-    const uint32_t characterCount = getLayout(r, characters);
-    for (uint32_t k = 0; k < characterCount; ++k) {
-        const uint32_t slot = r.get<uint32_t>(), body = r.get<uint32_t>();
-        if (!r.ok()) break;
+    Status pooled = readPool(r, characters, "a character", [&](uint32_t slot) -> Result<std::unique_ptr<CharacterInstance>> {
+        const uint32_t body = r.get<uint32_t>();
+        if (!r.ok()) return std::unique_ptr<CharacterInstance>();
         if (body >= bodies) return refused("a character's body is out of range");
         BodyRecord& record = *bodyRecords[body];
         if (Status s = prepareBodyTopology(record); !s) return refused(s.message());
@@ -496,35 +509,36 @@ Status WorldImpl::restoreState(const void* data, std::size_t size) {
         c->bodyId = BodyId{body + 1, mBodies.generationAt(body)};
         c->bodyTopology = record.topology;
         if (!record.body->hostSkinned) c->pose = CharacterPose(record.body->character());
-        if (Status s = c->restoreState(r, *mDevice); !s) return refused("character " + std::to_string(slot + 1) + ": " + s.message());
-        if (r.ok() && !characters.put(slot, std::move(c))) r.fail("a character's slot is free or taken twice");
-    }
-    if (r.ok() && !characters.complete()) r.fail("a character is missing");
+        if (Status s = c->restoreState(r, *mDevice); !s)
+            return refused("character " + std::to_string(slot + 1) + ": " + s.message());
+        return c;
+    });
+    if (!pooled) return pooled;
     if (!r.ok()) return readError();
 
     r.expectTag("GARM");
     HandlePool<GarmentInstance> garments;
-    const uint32_t garmentCount = getLayout(r, garments);
-    for (uint32_t k = 0; k < garmentCount; ++k) {
-        const uint32_t slot = r.get<uint32_t>(), asset = r.get<uint32_t>();
+    pooled = readPool(r, garments, "a garment", [&](uint32_t slot) -> Result<std::unique_ptr<GarmentInstance>> {
+        const uint32_t asset = r.get<uint32_t>();
         CharacterId owner;
         owner.index1 = r.get<uint32_t>(), owner.generation = r.get<uint32_t>();
         GarmentDesc desc;
         desc.importance = r.get<double>();
         desc.forceLevel = r.get<int32_t>();
         desc.inertiaScale = r.get<double>();
-        if (!r.ok()) break;
+        if (!r.ok()) return std::unique_ptr<GarmentInstance>();
         const AssetRecord* record =
             asset < mAssets.slotCount() ? mAssets.get(HandlePool<AssetRecord>::Handle{asset + 1, mAssets.generationAt(asset)})
                                         : nullptr;
         CharacterInstance* c = characters.get(owner);
-        if (!record || !c) return refused("garment " + std::to_string(slot + 1) + " names an asset or character that is not there");
+        if (!record || !c)
+            return refused("garment " + std::to_string(slot + 1) + " names an asset or character that is not there");
         auto g = GarmentInstance::create(record->asset, asset + 1, *c, owner, desc);
         if (!g.isOk()) return refused("garment " + std::to_string(slot + 1) + ": " + g.status().message());
         if (Status s = g.value()->restoreState(r); !s) return refused(s.message());
-        if (r.ok() && !garments.put(slot, std::move(g).value())) r.fail("a garment's slot is free or taken twice");
-    }
-    if (r.ok() && !garments.complete()) r.fail("a garment is missing");
+        return g;
+    });
+    if (!pooled) return pooled;
     r.expectTag("END!");
     if (r.ok() && !r.atEnd()) r.fail("bytes follow the end");
     if (!r.ok()) return readError();

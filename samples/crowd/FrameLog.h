@@ -28,6 +28,7 @@ public:
 private:
     std::filesystem::path mCsvPath, mJsonlPath;
     std::ofstream mCsv, mJsonl;
+    double mResidentMb = 0.0, mHeapMb = 0.0;  ///< sampled once a second (mallinfo2 walks the heap)
 };
 
 } // namespace crowd

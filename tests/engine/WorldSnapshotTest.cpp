@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
-#include "crowdcloth/core/Hash.h"
+#include "SnapshotStream.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
@@ -300,8 +300,7 @@ void expectRefused(World& world, const std::vector<uint8_t>& bytes, const std::s
 }
 
 std::vector<uint8_t> withChecksum(std::vector<uint8_t> bytes) {
-    const uint64_t sum = hashBytes(bytes.data() + 32, bytes.size() - 32);
-    std::memcpy(bytes.data() + 24, &sum, 8);
+    detail::sealSnapshot(bytes);
     return bytes;
 }
 
@@ -329,12 +328,12 @@ TEST(WorldSnapshot, TruncatedCorruptedForeignAndMismatchedSnapshotsAreRefusedByN
     // A forged count, checksum and all: no allocation of its size, an error naming the section.
     std::vector<uint8_t> forged = good;
     const uint64_t huge = 1ull << 60;
-    std::memcpy(forged.data() + 32 + 4, &huge, 8);  // the WorldDesc field count
+    std::memcpy(forged.data() + detail::kSnapshotHeaderBytes + 4, &huge, 8);  // the WorldDesc field count
     expectRefused(world, withChecksum(forged), "runs past the end", "a forged count");
     // Bytes overwritten all through the payload, checksums recomputed: refused or restored, never
     // a crash; a refusal leaves the World as it was (expectRefused checks the hash).
     int refusedCount = 0, restoredCount = 0;
-    for (std::size_t at = 32; at < good.size(); at += good.size() / 23 + 1) {
+    for (std::size_t at = detail::kSnapshotHeaderBytes; at < good.size(); at += good.size() / 23 + 1) {
         std::vector<uint8_t> bad = good;
         bad[at] ^= 0xff;
         bad = withChecksum(bad);

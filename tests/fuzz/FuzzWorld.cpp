@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "crowdcloth/World.h"
-#include "crowdcloth/core/Hash.h"
+#include "SnapshotStream.h"  // engine/src: the header layout
 
 namespace {
 
@@ -75,12 +75,11 @@ void checkSnapshot(cc::World& world, Input& in) {
     if (!saved.isOk()) return;
     const std::vector<uint8_t> bytes = std::move(saved).value();
     const uint64_t hash = world.stateHash();
-    constexpr std::size_t kHeader = 32, kChecksumAt = 24;  // WorldSnapshot.cpp's header
+    constexpr std::size_t kHeader = cc::detail::kSnapshotHeaderBytes;
     std::vector<uint8_t> bad = bytes;
     if (bad.size() > kHeader) {
         bad[kHeader + in.u32() % (bad.size() - kHeader)] ^= uint8_t(1 + in.byte() % 255);
-        const uint64_t sum = cc::hashBytes(bad.data() + kHeader, bad.size() - kHeader);
-        std::memcpy(bad.data() + kChecksumAt, &sum, sizeof sum);
+        cc::detail::sealSnapshot(bad);
     }
     if (const cc::Status s = world.restoreState(bad.data(), bad.size()); !s && s.message().find("restoreState") != 0) {
         std::fprintf(stderr, "FuzzWorld: a refused snapshot's message does not name the call: %s\n", s.message().c_str());
