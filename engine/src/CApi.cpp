@@ -303,6 +303,11 @@ cc_status cc_world_remove_garment(cc_world* w, cc_garment_id g) {
     return guarded(w, [&] { return report(w, w->world->removeGarment(g)); });
 }
 
+cc_status cc_world_set_garment_level(cc_world* w, cc_garment_id g, int32_t force_level) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->setGarmentLevel(g, force_level)); });
+}
+
 cc_status cc_world_set_cameras(cc_world* w, const cc_camera_desc* cameras, uint32_t count) {
     CC_CHECK_WORLD(w);
     if (count > 0 && !cameras) return fail(w, CC_INVALID_ARGUMENT, "cameras is null");
@@ -433,6 +438,13 @@ cc_status cc_world_save_state(cc_world* w, const void** out_data, size_t* out_si
 cc_status cc_world_restore_state(cc_world* w, const void* data, size_t size) {
     CC_CHECK_WORLD(w);
     return guarded(w, [&] { return report(w, w->world->restoreState(data, size)); });
+}
+
+cc_status cc_world_restore_state_mode(cc_world* w, const void* data, size_t size, cc_restore_mode mode) {
+    CC_CHECK_WORLD(w);
+    if (mode != CC_RESTORE_CONTINUE && mode != CC_RESTORE_OTHER_SOLVER)
+        return fail(w, CC_INVALID_ARGUMENT, "mode is not a cc_restore_mode");
+    return guarded(w, [&] { return report(w, w->world->restoreState(data, size, cc::RestoreMode(mode))); });
 }
 
 } // extern "C"

@@ -55,6 +55,14 @@ void weldCopies(const lod::ActiveMesh& active, std::vector<Vec3>& positions, std
 
 } // namespace
 
+Status GarmentInstance::setForcedLevel(int level) {
+    if (level < -1 || level >= int(mAsset->levels.size()))
+        return Status::invalidArgument("a forced level must be -1 or a level of the asset (0.." +
+                                       std::to_string(mAsset->levels.size() - 1) + "), not " + std::to_string(level));
+    mForceLevel = level;
+    return Status::ok();
+}
+
 Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr<const CookedAsset> asset,
                                                                  uint32_t assetIndex, CharacterInstance& character,
                                                                  CharacterId characterId, const GarmentDesc& desc) {
@@ -62,12 +70,10 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
         return Status::invalidArgument("GarmentDesc.importance must be > 0");
     if (!(desc.inertiaScale >= 0.0 && desc.inertiaScale <= 2.0))
         return Status::invalidArgument("GarmentDesc.inertiaScale must be in [0, 2]");
-    if (desc.forceLevel < -1 || desc.forceLevel >= int(asset->levels.size()))
-        return Status::invalidArgument("GarmentDesc.forceLevel must be -1 or a level of the asset (0.." +
-                                       std::to_string(asset->levels.size() - 1) + ")");
     std::unique_ptr<GarmentInstance> g(new GarmentInstance());
-    g->mForceLevel = desc.forceLevel;
     g->mAsset = std::move(asset);
+    if (Status s = g->setForcedLevel(desc.forceLevel); !s)
+        return Status::invalidArgument("GarmentDesc.forceLevel: " + s.message());
     g->mAssetIndex = assetIndex;
     g->mCharacterId = characterId;
     g->mImportance = desc.importance;

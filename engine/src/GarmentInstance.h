@@ -66,6 +66,8 @@ public:
     double importance() const { return mImportance; }
     double inertiaScale() const { return mInertiaScale; }
     int forcedLevel() const { return mForceLevel; }
+    /// -1 (scheduled) or a level of the asset.
+    Status setForcedLevel(int level);
     int level() const { return mLevel; }
     const CookedLevel& cookedLevel() const { return mAsset->levels[mLevel]; }
     uint32_t vertexCount() const { return uint32_t(mPositions.size()); }

@@ -92,6 +92,10 @@ Status World::removeGarment(GarmentId id) {
     if (Status s = outsideStep(this, "removeGarment"); !s) return s;
     return impl(this).removeGarment(id);
 }
+Status World::setGarmentLevel(GarmentId id, int32_t forceLevel) {
+    if (Status s = outsideStep(this, "setGarmentLevel"); !s) return s;
+    return impl(this).setGarmentLevel(id, forceLevel);
+}
 Status World::setCameras(const CameraDesc* cameras, uint32_t count) {
     if (Status s = outsideStep(this, "setCameras"); !s) return s;
     return impl(this).setCameras(cameras, count);
@@ -131,9 +135,9 @@ Result<std::vector<uint8_t>> World::saveState() const {
     return impl(this).saveState();
 }
 
-Status World::restoreState(const void* data, std::size_t size) {
+Status World::restoreState(const void* data, std::size_t size, RestoreMode mode) {
     if (Status s = outsideStep(this, "restoreState"); !s) return s;
-    return impl(this).restoreState(data, size);
+    return impl(this).restoreState(data, size, mode);
 }
 
 } // namespace cc

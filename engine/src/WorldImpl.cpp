@@ -279,6 +279,12 @@ Status WorldImpl::removeGarment(GarmentId id) {
     return Status::ok();
 }
 
+Status WorldImpl::setGarmentLevel(GarmentId id, int32_t forceLevel) {
+    GarmentInstance* g = mGarments.get(id);
+    if (!g) return staleHandle("garment");
+    return g->setForcedLevel(forceLevel);
+}
+
 Status WorldImpl::setCameras(const CameraDesc* cameras, uint32_t count) {
     if (count > 0 && !cameras) return Status::invalidArgument("setCameras: cameras is null");
     std::vector<lod::SchedulerCamera> converted(count);

@@ -38,6 +38,7 @@ public:
     Status setCharacterSkinnedVertices(CharacterId id, const float* positions, uint32_t count, uint32_t stride);
     Result<GarmentId> addGarment(AssetId asset, CharacterId character, const GarmentDesc& desc);
     Status removeGarment(GarmentId id);
+    Status setGarmentLevel(GarmentId id, int32_t forceLevel);
     Status setCameras(const CameraDesc* cameras, uint32_t count);
     Status setFrameBudget(double milliseconds);
     Status step(double dt);
@@ -56,7 +57,7 @@ public:
     uint64_t stateHash() const;
     // Snapshots (WorldSnapshot.cpp).
     Result<std::vector<uint8_t>> saveState() const;
-    Status restoreState(const void* data, std::size_t size);
+    Status restoreState(const void* data, std::size_t size, RestoreMode mode);
 
 private:
     WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device);

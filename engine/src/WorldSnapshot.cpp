@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <type_traits>
 
 #include "CApiFields.h"
@@ -55,6 +56,12 @@ std::vector<std::pair<const char*, double>> resultFields(const WorldDesc& d) {
             {"maxUpdateInterval", double(d.maxUpdateInterval)}, {"substeps", double(d.substeps)},
             {"solverIterations", double(d.solverIterations)},   {"strainLimit", d.strainLimit},
             {"selfCollision", double(d.selfCollision)},     {"spendSlack", double(d.spendSlack)}};
+}
+
+/// The fields RestoreMode::OtherSolver lets differ: how the state is stepped, not what it is.
+bool isSolverField(const char* name) {
+    const std::string field = name;
+    return field == "substeps" || field == "solverIterations" || field == "strainLimit";
 }
 
 uint64_t fingerprint(SnapshotWriter& w) { return hashBytes(w.bytes().data(), w.bytes().size()); }
@@ -379,7 +386,8 @@ Result<std::vector<uint8_t>> WorldImpl::saveState() const {
     return out;
 }
 
-Status WorldImpl::restoreState(const void* data, std::size_t size) {
+Status WorldImpl::restoreState(const void* data, std::size_t size, RestoreMode mode) {
+    if (mode != RestoreMode::Continue && mode != RestoreMode::OtherSolver) return refused("unknown RestoreMode");
     if (!data && size > 0) return refused("data is null");
     const auto* bytes = static_cast<const uint8_t*>(data);
     if (size < kHeaderBytes)
@@ -410,6 +418,7 @@ Status WorldImpl::restoreState(const void* data, std::size_t size) {
     if (r.count(8) != fields.size() && r.ok()) r.fail("another set of WorldDesc fields");
     for (const auto& [name, value] : fields) {
         const double saved = r.get<double>();
+        if (mode == RestoreMode::OtherSolver && isSolverField(name)) continue;
         if (r.ok() && saved != value)
             return refused(std::string("this World's WorldDesc.") + name + " is " + std::to_string(value) +
                            ", the snapshot's " + std::to_string(saved) + ": make the World with the same desc");

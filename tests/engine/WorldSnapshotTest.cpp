@@ -360,6 +360,17 @@ TEST(WorldSnapshot, TruncatedCorruptedForeignAndMismatchedSnapshotsAreRefusedByN
         addCooked(*w);
         const Status s = w->restoreState(good.data(), good.size());
         EXPECT_NE(s.message().find("WorldDesc.substeps"), std::string::npos) << s.message();
+        // Restarting under other solver settings, asked for: restored.
+        EXPECT_TRUE(w->restoreState(good.data(), good.size(), RestoreMode::OtherSolver).isOk());
+        EXPECT_FALSE(w->restoreState(good.data(), good.size(), RestoreMode(7)).isOk());
+    }
+    {
+        WorldDesc other = sceneDesc(1);
+        other.gravity[1] = -1.62;  // not a solver setting: refused even when restarting
+        WorldPtr w(World::create(other).value());
+        addCooked(*w);
+        const Status s = w->restoreState(good.data(), good.size(), RestoreMode::OtherSolver);
+        EXPECT_NE(s.message().find("WorldDesc.gravity[1]"), std::string::npos) << s.message();
     }
     {
         WorldPtr w(World::create(sceneDesc(1)).value());
@@ -383,6 +394,87 @@ TEST(WorldSnapshot, TruncatedCorruptedForeignAndMismatchedSnapshotsAreRefusedByN
         const Status s = w->restoreState(good.data(), good.size());
         EXPECT_NE(s.message().find("bodies"), std::string::npos) << s.message();
     }
+}
+
+/// A window of an error study: the run saved at a level, restarted in another World at the same
+/// level and settings, reproduces the saved run's next frames bit for bit (zero error); restarted
+/// at a coarser level or under other solver settings it differs, by a bounded amount.
+TEST(WorldSnapshot, ARestartedWindowReproducesTheRunAtItsLevelAndDiffersAtAnother) {
+    constexpr int kStart = 40, kWindow = 20, kLevel = 3;
+    auto makeWorld = [](uint32_t substeps, GarmentId* garment, CharacterId* walker) {
+        WorldDesc desc;
+        desc.fixedCostModel = true;
+        desc.maxThreads = 1;
+        desc.substeps = substeps;
+        WorldPtr world(World::create(desc).value());
+        const AssetId cape = world->addClothAsset({}).value();
+        CharacterDesc c;
+        c.body = world->addMannequinBody({}).value();
+        *walker = world->addCharacter(c).value();
+        GarmentDesc g;
+        g.forceLevel = kLevel;
+        *garment = world->addGarment(cape, *walker, g).value();
+        return world;
+    };
+    auto walk = [](World& world, CharacterId walker, int from, int frames) {
+        for (int f = from + 1; f <= from + frames; ++f) {
+            const double root[3] = {0.0, 0.0, 1.3 * f * kDt};
+            ASSERT_TRUE(world.setCharacterRoot(walker, root, 0.0).isOk());
+            ASSERT_TRUE(world.step(kDt).isOk());
+        }
+    };
+    auto mesh = [](const World& world, GarmentId g) {
+        const RenderMeshView m = world.renderMesh(g).value();
+        return std::vector<float>(m.positions, m.positions + 3 * std::size_t(m.vertexCount));
+    };
+    auto rms = [](const std::vector<float>& a, const std::vector<float>& b) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i) sum += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
+        return std::sqrt(sum / double(a.size() / 3));
+    };
+    GarmentId garment;
+    CharacterId walker;
+    WorldPtr reference = makeWorld(4, &garment, &walker);
+    walk(*reference, walker, 0, kStart);
+    const std::vector<uint8_t> saved = reference->saveState().value();
+    walk(*reference, walker, kStart, kWindow);
+    const std::vector<float> end = mesh(*reference, garment);
+
+    GarmentId g;
+    CharacterId c;
+    WorldPtr same = makeWorld(4, &g, &c);
+    ASSERT_TRUE(same->restoreState(saved.data(), saved.size()).isOk());
+    ASSERT_TRUE(same->setGarmentLevel(garment, kLevel).isOk());
+    walk(*same, walker, kStart, kWindow);
+    EXPECT_EQ(mesh(*same, garment), end) << "the same level and settings: zero error";
+
+    ASSERT_TRUE(same->restoreState(saved.data(), saved.size()).isOk());
+    ASSERT_TRUE(same->setGarmentLevel(garment, 1).isOk());
+    walk(*same, walker, kStart, kWindow);
+    EXPECT_EQ(same->garmentStats(garment).value().level, 1);
+    const double coarse = rms(mesh(*same, garment), end);
+    EXPECT_GT(coarse, 1e-4) << "level 1 is not level 3";
+    EXPECT_LT(coarse, 0.1) << "a 1/3 s window from the reference's state stays near it";
+
+    // Under other solver settings (restarted, asked for): the World's own, from the saved state.
+    WorldPtr finer = makeWorld(16, &g, &c);
+    ASSERT_FALSE(finer->restoreState(saved.data(), saved.size()).isOk());
+    ASSERT_TRUE(finer->restoreState(saved.data(), saved.size(), RestoreMode::OtherSolver).isOk());
+    walk(*finer, walker, kStart, kWindow);
+    EXPECT_EQ(finer->garmentStats(garment).value().substeps, 8u) << "16 at the finest level, 8 at level 3";
+    const double substepped = rms(mesh(*finer, garment), end);
+    EXPECT_GT(substepped, 0.0);
+    EXPECT_LT(substepped, 0.5);
+    WorldPtr again = makeWorld(4, &g, &c);
+    ASSERT_TRUE(again->restoreState(saved.data(), saved.size(), RestoreMode::OtherSolver).isOk());
+    walk(*again, walker, kStart, kWindow);
+    EXPECT_EQ(mesh(*again, garment), end) << "OtherSolver under the saved settings is Continue";
+
+    EXPECT_FALSE(same->setGarmentLevel(garment, 99).isOk());
+    EXPECT_FALSE(same->setGarmentLevel(garment, -2).isOk());
+    EXPECT_FALSE(same->setGarmentLevel(GarmentId{}, 1).isOk());
+    ASSERT_TRUE(same->setGarmentLevel(garment, -1).isOk());  // scheduled again
+    walk(*same, walker, kStart + kWindow, 1);
 }
 
 } // namespace

@@ -232,6 +232,14 @@ struct FrameStats {
     uint32_t threads = 1;
 };
 
+/// What a restoreState may change of the saved run.
+enum class RestoreMode : uint32_t {
+    Continue = 0,     ///< the World's desc is the saved one's: the run continues bit for bit
+    OtherSolver = 1,  ///< this World's substeps, solverIterations and strainLimit may differ: the
+                      ///< saved state restarted under other solver settings (error studies, a
+                      ///< quality preset switched mid-run); everything else must match
+};
+
 /// The crowd: characters, the garments they wear, cameras and the frame budget.
 ///
 /// Not thread-safe: call it from one thread. step() runs garments in parallel with OpenMP (or the
@@ -292,6 +300,11 @@ public:
 
     Result<GarmentId> addGarment(AssetId asset, CharacterId character, const GarmentDesc& desc);
     Status removeGarment(GarmentId id);
+    /// Forces a garment's uniform level from the next step on, as GarmentDesc::forceLevel does
+    /// (-1 = scheduled again): a cut-scene's close-up, a reference run, an error study restarting
+    /// a saved state at another level. The switch moves the state through the level transfers, as
+    /// the scheduler's switches do.
+    Status setGarmentLevel(GarmentId id, int32_t forceLevel);
 
     Status setCameras(const CameraDesc* cameras, uint32_t count);
     Status setFrameBudget(double milliseconds);
@@ -353,9 +366,10 @@ public:
     /// with a snapshot's. The World must have been made with the same WorldDesc (threads and batch
     /// size aside) and have the snapshot's assets and bodies added in the same order; then the run
     /// continues bit for bit as the saved one did (with the fixed cost model), and the snapshot's
-    /// handles are valid here. A truncated, corrupted, foreign or mismatched snapshot gives an
+    /// handles are valid here (with RestoreMode::OtherSolver the solver settings may differ, and
+    /// the run goes on under this World's). A truncated, corrupted, foreign or mismatched snapshot gives an
     /// error naming what is wrong, and the World keeps its state.
-    Status restoreState(const void* data, std::size_t size);
+    Status restoreState(const void* data, std::size_t size, RestoreMode mode = RestoreMode::Continue);
 
 protected:
     World() = default;

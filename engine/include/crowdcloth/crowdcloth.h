@@ -62,6 +62,8 @@ typedef struct cc_world_desc {
 
 typedef enum cc_garment_kind { CC_GARMENT_CAPE = 0, CC_GARMENT_SKIRT = 1, CC_GARMENT_DRESS = 2, CC_GARMENT_PONCHO = 3 } cc_garment_kind;
 typedef enum cc_garment_cut { CC_CUT_STRAIGHT = 0, CC_CUT_A_LINE = 1, CC_CUT_CIRCLE = 2 } cc_garment_cut;
+/* What a restore may change of the saved run (World.h's RestoreMode). */
+typedef enum cc_restore_mode { CC_RESTORE_CONTINUE = 0, CC_RESTORE_OTHER_SOLVER = 1 } cc_restore_mode;
 
 /* Sizes left at 0 are fitted to the body that wears the garment (see ClothAssetDesc in World.h). */
 typedef struct cc_cloth_asset_desc {
@@ -205,6 +207,8 @@ CC_API cc_status cc_world_set_character_skinned_vertices(cc_world* world, cc_cha
 CC_API cc_status cc_world_add_garment(cc_world* world, cc_asset_id asset, cc_character_id character,
                                const cc_garment_desc* desc, cc_garment_id* out_garment);
 CC_API cc_status cc_world_remove_garment(cc_world* world, cc_garment_id garment);
+/* Forces a garment's uniform level from the next step on (-1 = scheduled again). */
+CC_API cc_status cc_world_set_garment_level(cc_world* world, cc_garment_id garment, int32_t force_level);
 CC_API cc_status cc_world_set_cameras(cc_world* world, const cc_camera_desc* cameras, uint32_t count);
 CC_API cc_status cc_world_set_frame_budget(cc_world* world, double milliseconds);
 /* dt in [1e-6, 0.1] s. Between begin_step and end_step the calls that change or read characters and
@@ -236,6 +240,9 @@ CC_API cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
    assets and bodies (its characters and garments replaced; on error nothing changes). */
 CC_API cc_status cc_world_save_state(cc_world* world, const void** out_data, size_t* out_size);
 CC_API cc_status cc_world_restore_state(cc_world* world, const void* data, size_t size);
+/* The same with CC_RESTORE_OTHER_SOLVER: the world's substeps, iterations and strain limit may
+   differ from the saved one's (a saved state restarted under other solver settings). */
+CC_API cc_status cc_world_restore_state_mode(cc_world* world, const void* data, size_t size, cc_restore_mode mode);
 
 #ifdef __cplusplus
 }
