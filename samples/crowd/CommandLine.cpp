@@ -72,8 +72,9 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
     app.add_option("--threads", o.threads, "Threads stepping garments (0 = all)")->check(CLI::Range(0, 1024));
     auto* scaling = app.add_flag("--scaling", o.scaling, "Study: crowd scaling 10 -> 1000 characters, with LOD "
                                                          "and at full resolution, and 1 -> 2 threads");
-    auto* tradeoff = app.add_flag("--tradeoff", o.tradeoff, "Study: a cape at each uniform level against the "
-                                                            "finest (vertices, ms, RMS and max distance)");
+    auto* tradeoff = app.add_flag("--tradeoff", o.tradeoff, "Study: speed against accuracy (levels, substeps, "
+                                                            "iterations, strain limit) in windows restarted from a converged "
+                                                            "reference; OUT/tradeoff.csv and tradeoff.png (--seconds: run length)");
     auto* batch = app.add_flag("--batch", o.batch, "Study: 256 capes at level 3 stepped one by one and in batches");
     auto* snapshot = app.add_flag("--snapshot", o.snapshot, "Study: the crowd saved after 5 s, restored into a fresh "
                                                             "World, both run on 2 s (size, ms, identical frames)");

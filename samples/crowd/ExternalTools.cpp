@@ -36,15 +36,27 @@ cc::Status encodeVideo(const std::string& frameDir, int renderEvery, const std::
     return cc::Status::ok();
 }
 
-cc::Status plotSummary(const std::string& csvPath, const std::string& pngPath) {
+namespace {
+
+cc::Status runPlotScript(const char* script, const std::string& csvPath, const std::string& pngPath) {
     if (!std::filesystem::exists(kPython))
         return cc::Status::invalidArgument(std::string(kPython) + " not found (apt-get install python3-matplotlib)");
-    const int code = runProgram({kPython, CC_CROWD_PLOT_SCRIPT, csvPath, pngPath});
+    const int code = runProgram({kPython, script, csvPath, pngPath});
     if (code == kPlotNeedsMatplotlib)
         return cc::Status::invalidArgument(std::string(kPython) + " has no matplotlib (apt-get install python3-matplotlib)");
     if (code != 0)
-        return cc::Status::invalidArgument(std::string(CC_CROWD_PLOT_SCRIPT) + " failed with exit code " + std::to_string(code));
+        return cc::Status::invalidArgument(std::string(script) + " failed with exit code " + std::to_string(code));
     return cc::Status::ok();
+}
+
+} // namespace
+
+cc::Status plotSummary(const std::string& csvPath, const std::string& pngPath) {
+    return runPlotScript(CC_CROWD_PLOT_SCRIPT, csvPath, pngPath);
+}
+
+cc::Status plotTradeoff(const std::string& csvPath, const std::string& pngPath) {
+    return runPlotScript(CC_CROWD_TRADEOFF_SCRIPT, csvPath, pngPath);
 }
 
 } // namespace crowd

@@ -20,5 +20,7 @@ cc::Status encodeVideo(const std::string& frameDir, int renderEvery, const std::
 /// Plots frames.csv into a PNG with scripts/plot-summary.py and /usr/bin/python3 (Debian's, which
 /// has python3-matplotlib); the error says how to get them.
 cc::Status plotSummary(const std::string& csvPath, const std::string& pngPath);
+/// Plots tradeoff.csv (cost against error per scene, the front marked) with scripts/plot-tradeoff.py.
+cc::Status plotTradeoff(const std::string& csvPath, const std::string& pngPath);
 
 } // namespace crowd

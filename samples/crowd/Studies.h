@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -36,8 +37,9 @@ inline void useFullResolution(cc::WorldDesc& desc) {
 
 /// Crowd scaling: 10 -> 1000 characters with LOD and at full resolution, and 1 -> 2 threads.
 int runScaling(double budgetMs, int threads);
-/// A cape on a walking mannequin at each uniform level against the finest one.
-int runTradeoff();
+/// Speed against accuracy: levels, substeps, iterations and strain limit against a converged
+/// reference in restarted windows (Tradeoff.cpp); writes tradeoff.csv and tradeoff.png into outDir.
+int runTradeoff(const std::string& outDir, double seconds);
 /// 256 capes at level 3 on walking mannequins stepped one by one and in batches (BAR batch).
 int runBatchBench();
 /// A plaza crowd saved mid-run, restored into a fresh World, both run on (BAR snapshot).

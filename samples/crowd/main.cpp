@@ -11,7 +11,8 @@
 //            one, samples/crowd/scenes/default.json) and exits; options given override the file's
 //   cc_crowd --scaling   crowd scaling benchmark: 10 -> 1000 characters, with LOD and at full
 //                        resolution, and the 1 -> 2 thread speed-up
-//   cc_crowd --tradeoff  a cape on a walking mannequin at each uniform level against the finest
+//   cc_crowd --tradeoff  speed against accuracy: levels, substeps, iterations, strain limit against a
+//                        converged reference in restarted windows (OUT/tradeoff.csv, tradeoff.png)
 //   cc_crowd --batch     256 capes at level 3 stepped one by one and in batches (BAR batch)
 //   cc_crowd --snapshot  the crowd saved, restored into a fresh World, both run on (BAR snapshot)
 //
@@ -209,7 +210,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (o.scaling) return crowd::runScaling(o.scene.budgetMs, o.threads);
-    if (o.tradeoff) return crowd::runTradeoff();
+    if (o.tradeoff) return crowd::runTradeoff(o.out, o.scene.seconds);
     if (o.batch) return crowd::runBatchBench();
     if (o.snapshot) return crowd::runSnapshotStudy(o.scene.plaza.characters, o.threads);
     return runCrowd(o);

@@ -7,6 +7,8 @@ tests/crowd/CMakeLists.txt).
     crowd_cli_test.py roundtrip CC_CROWD OUT_DIR    --write-scene output reads back as the same scene and crowd
     crowd_cli_test.py export CC_CROWD OUT_DIR       --export obj and glb write every character's body and garment
     crowd_cli_test.py churn CC_CROWD OUT_DIR        --churn replaces characters mid-run; frames.csv logs memory
+    crowd_cli_test.py tradeoff CC_CROWD OUT_DIR     --tradeoff's windowed errors rank: the reference's own
+                                                    refinement nearest, more level, substeps, iterations nearer
 """
 import csv
 import json
@@ -123,6 +125,36 @@ def test_export(exe, out):
         check(faces > 0, f"--export {fmt} has no triangles")
 
 
+def test_tradeoff(exe, out):
+    p = run([exe, "--tradeoff", "--seconds", "1", "--out", out])
+    check(p.returncode == 0, f"--tradeoff exit code {p.returncode}\nstdout:\n{p.stdout}\nstderr:\n{p.stderr}")
+    with open(os.path.join(out, "tradeoff.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    scenes = {r["scene"] for r in rows}
+    check(scenes == {"cape/walk", "cape/run", "skirt/walk"}, f"scenes {scenes}")
+    check(all(r["ok"] == "1" and finite(float(r["rms_mm"])) and finite(float(r["ms"])) for r in rows), "a failed row")
+    check(os.path.getsize(os.path.join(out, "tradeoff.png")) > 10000, "no tradeoff.png")
+
+    def rms(scene, knob, **key):
+        match = [r for r in rows if r["scene"] == scene and r["knob"] == knob and all(r[k] == str(v) for k, v in key.items())]
+        check(len(match) == 1, f"{scene} {knob} {key}: {len(match)} rows")
+        return float(match[0]["rms_mm"])
+
+    for scene in scenes:
+        check(any(r["front"] == "1" for r in rows if r["scene"] == scene), f"{scene}: no front")
+        # The reference checked by one more refinement in time lies nearer than any shipped level:
+        # the error it measures is the configurations', not the reference's own.
+        reference = rms(scene, "ref-time")
+        for level in range(5):
+            check(reference < rms(scene, "level", level=level), f"{scene}: ref-time {reference} mm not below level {level}")
+    # Convergence the windows can see on the skirt (smooth contact with the hips and legs): the
+    # finest level against the coarsest, many substeps or iterations against one.
+    check(rms("skirt/walk", "level", level=4) < 0.8 * rms("skirt/walk", "level", level=0), "skirt: level 4 not nearer than 0")
+    check(rms("skirt/walk", "substeps", substeps=32) < 0.6 * rms("skirt/walk", "substeps", substeps=1), "skirt: substeps")
+    check(rms("skirt/walk", "iterations", iterations=16) < 0.6 * rms("skirt/walk", "iterations", iterations=1),
+          "skirt: iterations")
+
+
 def main():
     command, args = sys.argv[1], sys.argv[2:]
     if command == "run":
@@ -135,6 +167,8 @@ def main():
         test_export(*args)
     elif command == "churn":
         test_churn(*args)
+    elif command == "tradeoff":
+        test_tradeoff(*args)
     else:
         sys.exit(f"unknown command {command!r}")
 

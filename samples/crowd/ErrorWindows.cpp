@@ -1,0 +1,186 @@
+#include "ErrorWindows.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "Studies.h"
+
+namespace crowd {
+namespace {
+
+constexpr double kDt = 1.0 / 60.0;
+
+/// [m] root position along +Z at time t: the speed eases in over the first second (smoothstep),
+/// so the start is a walker setting off, not a jolt.
+double rootZ(const WindowScene& scene, double t) {
+    if (t < 1.0) return scene.speed * (t * t * t - 0.5 * t * t * t * t);
+    return scene.speed * (0.5 + (t - 1.0));
+}
+
+struct StudyWorld {
+    WorldPtr world;
+    cc::CharacterId walker;
+    cc::GarmentId garment;
+    cc::Status status;
+};
+
+StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int level) {
+    StudyWorld s;
+    auto created = cc::World::create(desc);
+    if (!created.isOk()) {
+        s.status = created.status();
+        return s;
+    }
+    s.world.reset(created.value());
+    cc::ClothAssetDesc asset;
+    asset.kind = scene.kind;
+    asset.levelCount = scene.levelCount;
+    asset.renderLevel = scene.levelCount - 1;
+    auto assetId = s.world->addClothAsset(asset);
+    auto body = s.world->addMannequinBody({});
+    if (!assetId.isOk() || !body.isOk()) {
+        s.status = !assetId.isOk() ? assetId.status() : body.status();
+        return s;
+    }
+    cc::CharacterDesc cd;
+    cd.body = body.value();
+    cd.clip = scene.clip.c_str();
+    auto walker = s.world->addCharacter(cd);
+    if (!walker.isOk()) {
+        s.status = walker.status();
+        return s;
+    }
+    s.walker = walker.value();
+    cc::GarmentDesc gd;
+    gd.forceLevel = level < 0 ? int(scene.levelCount) - 1 : level;
+    auto garment = s.world->addGarment(assetId.value(), s.walker, gd);
+    s.status = garment.status();
+    if (garment.isOk()) s.garment = garment.value();
+    return s;
+}
+
+/// The study camera at frame f: behind the walker and above, looking at its back.
+cc::CameraDesc studyCamera(const WindowScene& scene, int frame) {
+    const double z = rootZ(scene, frame * kDt);
+    const Eigen::Vector3d target(0.0, 1.1, z);
+    const Eigen::Vector3d eye = target + scene.cameraDistance * Eigen::Vector3d(-1.2, 0.4, -2.2).normalized();
+    cc::CameraDesc camera;
+    lookAt(eye, target, camera.viewportWidth / camera.viewportHeight, camera.viewProjection);
+    return camera;
+}
+
+cc::lod::SchedulerCamera toScheduler(const cc::CameraDesc& c) {
+    cc::lod::SchedulerCamera s;
+    for (int k = 0; k < 16; ++k) s.viewProjection(k % 4, k / 4) = c.viewProjection[k];
+    s.viewportWidth = c.viewportWidth;
+    s.viewportHeight = c.viewportHeight;
+    return s;
+}
+
+/// Steps frame `frame` (root, camera, step); adds the garment's update time to `ms`.
+bool advance(const WindowScene& scene, StudyWorld& s, int frame, double& ms, cc::GarmentStats* stats) {
+    const double position[3] = {0.0, 0.0, rootZ(scene, frame * kDt)};
+    const cc::CameraDesc camera = studyCamera(scene, frame);
+    if (!s.world->setCharacterRoot(s.walker, position, 0.0) || !s.world->setCameras(&camera, 1) ||
+        !s.world->step(kDt))
+        return false;
+    const cc::GarmentStats g = s.world->garmentStats(s.garment).value();
+    ms += g.measuredMs;
+    if (stats) *stats = g;
+    return !g.failed;
+}
+
+std::vector<float> renderPositions(const StudyWorld& s) {
+    const cc::RenderMeshView m = s.world->renderMesh(s.garment).value();
+    return std::vector<float>(m.positions, m.positions + 3 * std::size_t(m.vertexCount));
+}
+
+double percentileOf(std::vector<double> v, double p) { return percentile(std::move(v), p); }
+
+} // namespace
+
+double WindowResult::medianRmsMm() const {
+    std::vector<double> v;
+    for (const auto& w : windows) v.push_back(1e3 * w.rmsMetres);
+    return percentileOf(v, 0.5);
+}
+double WindowResult::p95MaxMm() const {
+    std::vector<double> v;
+    for (const auto& w : windows) v.push_back(1e3 * w.maxMetres);
+    return percentileOf(v, 0.95);
+}
+double WindowResult::p95MaxPx() const {
+    std::vector<double> v;
+    for (const auto& w : windows) v.push_back(w.maxPixels);
+    return percentileOf(v, 0.95);
+}
+
+cc::WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLimit) {
+    cc::WorldDesc desc;
+    desc.maxThreads = 1;
+    desc.fixedCostModel = true;
+    desc.substeps = substeps;
+    desc.solverIterations = iterations;
+    desc.strainLimit = strainLimit;
+    return desc;
+}
+
+ReferenceRun recordReference(const WindowScene& scene, const cc::WorldDesc& desc, int level) {
+    ReferenceRun run;
+    StudyWorld s = makeWorld(scene, desc, level);
+    if (!s.status) {
+        run.ok = false;
+        return run;
+    }
+    const int frames = int(std::lround(scene.seconds / kDt));
+    const int first = int(std::lround(scene.firstWindow / kDt)), length = int(std::lround(scene.window / kDt));
+    double ms = 0.0;
+    for (int f = 1; f <= frames && run.ok; ++f) {
+        run.ok = advance(scene, s, f, ms, nullptr);
+        const bool start = f >= first && (f - first) % length == 0 && f + length <= frames;
+        const bool end = f > first && (f - first) % length == 0;
+        if (end) {
+            run.endMeshes.push_back(renderPositions(s));
+            run.cameras.push_back(toScheduler(studyCamera(scene, f)));
+        }
+        if (start) {
+            run.startFrames.push_back(f);
+            run.snapshots.push_back(s.world->saveState().value());
+        }
+    }
+    run.meanMs = ms / frames;
+    return run;
+}
+
+WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const cc::WorldDesc& desc, int level) {
+    WindowResult result;
+    StudyWorld s = makeWorld(scene, desc, level);
+    if (!s.status || !reference.ok) {
+        result.ok = false;
+        return result;
+    }
+    const int length = int(std::lround(scene.window / kDt));
+    double ms = 0.0;
+    int updates = 0;
+    for (std::size_t k = 0; k < reference.startFrames.size() && result.ok; ++k) {
+        const std::vector<uint8_t>& saved = reference.snapshots[k];
+        result.ok = s.world->restoreState(saved.data(), saved.size(), cc::RestoreMode::OtherSolver).isOk() &&
+                    s.world->setGarmentLevel(s.garment, level).isOk();
+        cc::GarmentStats stats;
+        for (int f = reference.startFrames[k] + 1; f <= reference.startFrames[k] + length && result.ok; ++f) {
+            result.ok = advance(scene, s, f, ms, &stats);
+            ++updates;
+            result.maxStrain = std::max(result.maxStrain, stats.maxStrain);
+        }
+        result.vertices = stats.vertexCount;
+        result.substeps = stats.substeps;
+        result.iterationsPerSubstep = stats.iterations / std::max(1u, stats.substeps);
+        const std::vector<float> mesh = renderPositions(s);
+        result.windows.push_back(
+            cc::lod::meshDeviation(mesh.data(), reference.endMeshes[k].data(), mesh.size() / 3, &reference.cameras[k]));
+    }
+    result.meanMs = ms / std::max(1, updates);
+    return result;
+}
+
+} // namespace crowd
