@@ -14,6 +14,14 @@ function(cc_target_options target)
     endif()
 endfunction()
 
+# A library of the module: unity build when CC_UNITY_LIBRARIES asks for it.
+function(cc_library_options target)
+    cc_target_options(${target})
+    if(CC_UNITY_LIBRARIES)
+        set_target_properties(${target} PROPERTIES UNITY_BUILD ON)
+    endif()
+endfunction()
+
 # An internal static library of the module: its headers are seen only inside this build (never
 # installed), and its archive is named crowdcloth_<part> so an install does not add a libcc_*.a
 # to a host's lib folder.
@@ -22,7 +30,7 @@ function(cc_internal_library target part)
     add_library(crowdcloth::${part} ALIAS ${target})
     set_target_properties(${target} PROPERTIES OUTPUT_NAME crowdcloth_${part})
     target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
-    cc_target_options(${target})
+    cc_library_options(${target})
     set_property(GLOBAL APPEND PROPERTY CC_INTERNAL_LIBRARIES ${target})
 endfunction()
 
@@ -42,5 +50,5 @@ function(cc_public_library target base header)
         $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
         $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
         $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
-    cc_target_options(${target})
+    cc_library_options(${target})
 endfunction()

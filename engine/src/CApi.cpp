@@ -440,7 +440,7 @@ cc_status cc_world_restore_state(cc_world* w, const void* data, size_t size) {
     return guarded(w, [&] { return report(w, w->world->restoreState(data, size)); });
 }
 
-cc_status cc_world_restore_state_mode(cc_world* w, const void* data, size_t size, cc_restore_mode mode) {
+cc_status cc_world_restore_state_mode(cc_world* w, const void* data, size_t size, int32_t mode) {
     CC_CHECK_WORLD(w);
     if (mode != CC_RESTORE_CONTINUE && mode != CC_RESTORE_OTHER_SOLVER)
         return fail(w, CC_INVALID_ARGUMENT, "mode is not a cc_restore_mode");

@@ -246,7 +246,7 @@ TEST(CApi, RoundTripMatchesTheCppApi) {
         EXPECT_EQ(again, ahead);
         EXPECT_EQ(cc_world_restore_state(world, saved.data(), size / 2), CC_INVALID_ARGUMENT);
         EXPECT_NE(std::string(cc_world_last_error(world)).find("truncated"), std::string::npos) << cc_world_last_error(world);
-        EXPECT_EQ(cc_world_restore_state_mode(world, saved.data(), saved.size(), cc_restore_mode(7)), CC_INVALID_ARGUMENT);
+        EXPECT_EQ(cc_world_restore_state_mode(world, saved.data(), saved.size(), 7), CC_INVALID_ARGUMENT);
         ASSERT_EQ(cc_world_restore_state_mode(world, saved.data(), saved.size(), CC_RESTORE_OTHER_SOLVER), CC_OK);
         EXPECT_EQ(cc_world_set_garment_level(world, garment, 99), CC_INVALID_ARGUMENT);
         ASSERT_EQ(cc_world_set_garment_level(world, garment, 1), CC_OK) << cc_world_last_error(world);

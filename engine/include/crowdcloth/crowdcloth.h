@@ -240,9 +240,10 @@ CC_API cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
    assets and bodies (its characters and garments replaced; on error nothing changes). */
 CC_API cc_status cc_world_save_state(cc_world* world, const void** out_data, size_t* out_size);
 CC_API cc_status cc_world_restore_state(cc_world* world, const void* data, size_t size);
-/* The same with CC_RESTORE_OTHER_SOLVER: the world's substeps, iterations and strain limit may
-   differ from the saved one's (a saved state restarted under other solver settings). */
-CC_API cc_status cc_world_restore_state_mode(cc_world* world, const void* data, size_t size, cc_restore_mode mode);
+/* The same with mode CC_RESTORE_OTHER_SOLVER: the world's substeps, iterations and strain limit may
+   differ from the saved one's (a saved state restarted under other solver settings). `mode` is a
+   cc_restore_mode value, passed as an integer so that any other value is an error, not undefined. */
+CC_API cc_status cc_world_restore_state_mode(cc_world* world, const void* data, size_t size, int32_t mode);
 
 #ifdef __cplusplus
 }
