@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <string>
 #include <type_traits>
 
 #include "CApiFields.h"
@@ -60,8 +59,8 @@ std::vector<std::pair<const char*, double>> resultFields(const WorldDesc& d) {
 
 /// The fields RestoreMode::OtherSolver lets differ: how the state is stepped, not what it is.
 bool isSolverField(const char* name) {
-    const std::string field = name;
-    return field == "substeps" || field == "solverIterations" || field == "strainLimit";
+    return std::strcmp(name, "substeps") == 0 || std::strcmp(name, "solverIterations") == 0 ||
+           std::strcmp(name, "strainLimit") == 0;
 }
 
 uint64_t fingerprint(SnapshotWriter& w) { return hashBytes(w.bytes().data(), w.bytes().size()); }

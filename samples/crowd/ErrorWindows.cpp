@@ -19,8 +19,8 @@ double rootZ(const WindowScene& scene, double t) {
 
 struct StudyWorld {
     WorldPtr world;
-    cc::CharacterId walker;
-    cc::GarmentId garment;
+    cc::CharacterId walker{};
+    cc::GarmentId garment{};
     cc::Status status;
 };
 
@@ -95,24 +95,25 @@ std::vector<float> renderPositions(const StudyWorld& s) {
     return std::vector<float>(m.positions, m.positions + 3 * std::size_t(m.vertexCount));
 }
 
-double percentileOf(std::vector<double> v, double p) { return percentile(std::move(v), p); }
+/// Percentile `p` over the windows of one figure of their deviations.
+template <typename Figure>
+double overWindows(const std::vector<cc::lod::MeshDeviation>& windows, double p, Figure figure) {
+    std::vector<double> v;
+    v.reserve(windows.size());
+    for (const cc::lod::MeshDeviation& w : windows) v.push_back(figure(w));
+    return percentile(std::move(v), p);
+}
 
 } // namespace
 
 double WindowResult::medianRmsMm() const {
-    std::vector<double> v;
-    for (const auto& w : windows) v.push_back(1e3 * w.rmsMetres);
-    return percentileOf(v, 0.5);
+    return overWindows(windows, 0.5, [](const cc::lod::MeshDeviation& w) { return 1e3 * w.rmsMetres; });
 }
 double WindowResult::p95MaxMm() const {
-    std::vector<double> v;
-    for (const auto& w : windows) v.push_back(1e3 * w.maxMetres);
-    return percentileOf(v, 0.95);
+    return overWindows(windows, 0.95, [](const cc::lod::MeshDeviation& w) { return 1e3 * w.maxMetres; });
 }
 double WindowResult::p95MaxPx() const {
-    std::vector<double> v;
-    for (const auto& w : windows) v.push_back(w.maxPixels);
-    return percentileOf(v, 0.95);
+    return overWindows(windows, 0.95, [](const cc::lod::MeshDeviation& w) { return w.maxPixels; });
 }
 
 cc::WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLimit) {

@@ -12,6 +12,7 @@
 
 #include "crowdcloth/World.h"
 #include "SnapshotStream.h"
+#include "crowdcloth/lod/ScreenError.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
@@ -428,9 +429,7 @@ TEST(WorldSnapshot, ARestartedWindowReproducesTheRunAtItsLevelAndDiffersAtAnothe
         return std::vector<float>(m.positions, m.positions + 3 * std::size_t(m.vertexCount));
     };
     auto rms = [](const std::vector<float>& a, const std::vector<float>& b) {
-        double sum = 0.0;
-        for (std::size_t i = 0; i < a.size(); ++i) sum += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
-        return std::sqrt(sum / double(a.size() / 3));
+        return lod::meshDeviation(a.data(), b.data(), a.size() / 3).rmsMetres;
     };
     GarmentId garment;
     CharacterId walker;
