@@ -111,6 +111,30 @@ CC_DESC_INIT(cc_body_desc_init, cc_body_desc, cc::BodyDesc, CC_BODY_FIELDS)
 CC_DESC_INIT(cc_body_landmarks_init, cc_body_landmarks, cc::BodyLandmarkDesc, CC_LANDMARK_FIELDS)
 CC_DESC_INIT(cc_camera_desc_init, cc_camera_desc, cc::CameraDesc, CC_CAMERA_FIELDS)
 
+cc_status cc_world_desc_apply_preset(cc_world_desc* d, int32_t preset) {
+    gCreateError.clear();
+    if (!d) {
+        gCreateError = "world desc is null";
+        return CC_INVALID_ARGUMENT;
+    }
+    if (std::string refused = stampError("world desc", "cc_world_desc_init", d->version); !refused.empty()) {
+        gCreateError = std::move(refused);
+        return CC_INVALID_ARGUMENT;
+    }
+    if (preset < 0) {
+        gCreateError = "cc_quality_preset " + std::to_string(preset) + " is not a preset (0 fast, 1 balanced, 2 quality)";
+        return CC_INVALID_ARGUMENT;
+    }
+    cc::WorldDesc x;
+    CC_WORLD_FIELDS(CC_TO_CPP)
+    if (const cc::Status s = x.applyPreset(cc::QualityPreset(uint32_t(preset))); !s) {
+        gCreateError = s.message();
+        return cc::detail::toCStatus(s.code());
+    }
+    CC_WORLD_FIELDS(CC_TO_C)
+    return CC_OK;
+}
+
 cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
     gCreateError.clear();
     if (!out_world) {

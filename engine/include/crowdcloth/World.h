@@ -22,6 +22,14 @@ using GarmentId = cc_garment_id;
 /// [0, count), in any order and on any threads, and returns when all have finished.
 using TaskRunner = cc_task_runner;
 
+/// Speed against accuracy in one choice: the solver effort and the pixel tolerance of a World,
+/// picked from the configurations `cc_crowd --tradeoff` measures (README, "Speed against accuracy").
+enum class QualityPreset : uint32_t {
+    Fast = 0,      ///< 1 substep x 1 iteration at the finest level; 4 px tolerance
+    Balanced = 1,  ///< 2 x 1; the default 1 px tolerance
+    Quality = 2,   ///< 4 x 4 (the default WorldDesc's effort); 0.5 px tolerance
+};
+
 /// World-wide choices, fixed at creation.
 struct CC_API WorldDesc {
     uint32_t maxThreads = 0;          ///< [-] threads that step garments; 0 = all OpenMP offers
@@ -56,6 +64,9 @@ struct CC_API WorldDesc {
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
     Status validate() const;
+    /// Sets pixelTolerance, substeps and solverIterations to `preset`'s (everything else, threads
+    /// and budget included, stays the host's). An unknown preset is an error naming its value.
+    Status applyPreset(QualityPreset preset);
 };
 
 enum class GarmentKind : uint32_t {

@@ -169,6 +169,11 @@ typedef struct cc_frame_stats {
 CC_API uint32_t cc_get_version(void);
 
 CC_API void cc_world_desc_init(cc_world_desc* desc);
+/* Speed against accuracy in one choice (cc::QualityPreset): sets pixel_tolerance, substeps and
+ * solver_iterations of an initialised desc; anything else stays. CC_INVALID_ARGUMENT for a null
+ * desc or an unknown preset (message: cc_world_create_error()). */
+typedef enum cc_quality_preset { CC_PRESET_FAST = 0, CC_PRESET_BALANCED = 1, CC_PRESET_QUALITY = 2 } cc_quality_preset;
+CC_API cc_status cc_world_desc_apply_preset(cc_world_desc* desc, int32_t preset);
 CC_API void cc_cloth_asset_desc_init(cc_cloth_asset_desc* desc);
 CC_API void cc_mannequin_desc_init(cc_mannequin_desc* desc);
 CC_API void cc_character_desc_init(cc_character_desc* desc);
