@@ -47,17 +47,6 @@ Status staleHandle(const char* what) {
     return Status::invalidArgument(std::string(what) + " is null, stale or from another world");
 }
 
-/// Substeps and CG iterations of a level: the desc's at the finest level; each coarser level one
-/// iteration fewer and every second one half the substeps (at least one each). A coarse level's
-/// heavier nodes make its system better conditioned, and its picture is coarse anyway.
-struct SolverEffort {
-    int substeps, iterations;
-};
-SolverEffort solverEffort(const WorldDesc& desc, int level, int levelCount) {
-    const int below = levelCount - 1 - level;
-    return {std::max(1, int(desc.substeps) >> ((below + 1) / 2)), std::max(1, int(desc.solverIterations) - below)};
-}
-
 /// Closed-loop budget, a quantile tracker (stochastic approximation, Robbins & Monro 1951): after a
 /// frame within the budget the CPU share grows by this step (as a log), after one over it shrinks
 /// by kOverBudgetWeight steps, so at equilibrium one frame in 1 + kOverBudgetWeight exceeds the
@@ -324,9 +313,9 @@ Status WorldImpl::scheduleFrame(double dt) {
             const std::size_t n = level.active.mesh.vertexCount();
             lod::LevelProfile lp;
             lp.errorMetres = level.errorMetres;
-            const SolverEffort effort = solverEffort(mDesc, int(l), int(record.asset->levels.size()));
-            lp.substeps = effort.substeps;
-            lp.iterations = effort.iterations;
+            const WorldDesc::Effort effort = mDesc.effortAt(uint32_t(l), uint32_t(record.asset->levels.size()));
+            lp.substeps = int(effort.substeps);
+            lp.iterations = int(effort.iterations);
             // The solve with capsules, and what the body mesh adds to it.
             const auto newton = lod::SolverChoice::SubstepNewton;
             auto predict = [&](lod::CollisionDetail detail) {

@@ -67,6 +67,15 @@ struct CC_API WorldDesc {
     /// Sets pixelTolerance, substeps and solverIterations to `preset`'s (everything else, threads
     /// and budget included, stays the host's). An unknown preset is an error naming its value.
     Status applyPreset(QualityPreset preset);
+
+    /// The solver work per update a garment gets at `level` of an asset with `levelCount` levels:
+    /// substeps and iterations at the finest level; each coarser level one iteration fewer and
+    /// every second one half the substeps (at least one each), since a coarse level's heavier nodes
+    /// condition its system better and its picture is coarse anyway.
+    struct Effort {
+        uint32_t substeps, iterations;
+    };
+    Effort effortAt(uint32_t level, uint32_t levelCount) const;
 };
 
 enum class GarmentKind : uint32_t {

@@ -1,6 +1,7 @@
-// WorldDesc::applyPreset and cc_world_desc_apply_preset: three ordered choices of speed against
-// accuracy that leave the host's other settings alone, refuse what is not a preset, and step a
-// walking crowd stably; a far garment gets a coarser level under Fast than under Quality.
+// WorldDesc::effortAt: the finest level gets the desc's substeps and iterations, coarser levels less,
+// never none. WorldDesc::applyPreset and cc_world_desc_apply_preset: three ordered choices of speed
+// against accuracy that leave the host's other settings alone, refuse what is not a preset, and step
+// a walking crowd stably; a far garment gets a coarser level under Fast than under Quality.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -19,6 +20,27 @@ WorldDesc presetDesc(QualityPreset preset) {
     WorldDesc desc;
     EXPECT_TRUE(desc.applyPreset(preset).isOk());
     return desc;
+}
+
+TEST(SolverEffort, FinestLevelGetsTheDescsEffortCoarserLevelsLessButAtLeastOne) {
+    WorldDesc desc;
+    desc.substeps = 8, desc.solverIterations = 3;
+    const uint32_t levels = 5;
+    const WorldDesc::Effort finest = desc.effortAt(levels - 1, levels);
+    EXPECT_EQ(finest.substeps, 8u);
+    EXPECT_EQ(finest.iterations, 3u);
+    // One iteration fewer per level below the finest, half the substeps every second level.
+    const uint32_t substeps[] = {2, 2, 4, 4, 8}, iterations[] = {1, 1, 1, 2, 3};
+    for (uint32_t l = 0; l < levels; ++l) {
+        const WorldDesc::Effort e = desc.effortAt(l, levels);
+        EXPECT_EQ(e.substeps, substeps[l]) << "level " << l;
+        EXPECT_EQ(e.iterations, iterations[l]) << "level " << l;
+    }
+    desc.substeps = 1, desc.solverIterations = 1;
+    for (uint32_t l = 0; l < levels; ++l) {
+        EXPECT_EQ(desc.effortAt(l, levels).substeps, 1u);
+        EXPECT_EQ(desc.effortAt(l, levels).iterations, 1u);
+    }
 }
 
 TEST(QualityPreset, PresetsAreOrderedAndLeaveTheRestOfTheDescAlone) {

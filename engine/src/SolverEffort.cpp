@@ -1,7 +1,9 @@
-// WorldDesc::applyPreset: three choices of speed against accuracy a host picks from. The efforts
+// How much solver work a World spends: the effort per level (WorldDesc::effortAt) and three
+// choices of speed against accuracy a host picks from (WorldDesc::applyPreset). The presets' efforts
 // are measured, not guessed: `cc_crowd --tradeoff` restarts every configuration in short windows
 // from a converged reference and prints `BAR presets` (is each preset, at the level its tolerance
 // gets at the study camera, on every scene's front? README, "Speed against accuracy").
+#include <algorithm>
 #include <string>
 
 #include "crowdcloth/World.h"
@@ -26,6 +28,12 @@ constexpr PresetValues kPresets[] = {
 };
 
 } // namespace
+
+WorldDesc::Effort WorldDesc::effortAt(uint32_t level, uint32_t levelCount) const {
+    const int below = std::max(0, int(levelCount) - 1 - int(level));
+    return {uint32_t(std::max(1, int(substeps) >> ((below + 1) / 2))),
+            uint32_t(std::max(1, int(solverIterations) - below))};
+}
 
 Status WorldDesc::applyPreset(QualityPreset preset) {
     const auto index = uint32_t(preset);
