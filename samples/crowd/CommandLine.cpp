@@ -66,6 +66,12 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
                                                 "OUT/frame_stats.jsonl, one JSON line per frame");
     app.add_flag("--full-resolution", o.fullResolution, "Every garment at its finest level and updated every frame "
                                                         "(no budget, no LOD): the cost LOD saves");
+    const std::map<std::string, int> kPresets = {{"fast", int(cc::QualityPreset::Fast)},
+                                                 {"balanced", int(cc::QualityPreset::Balanced)},
+                                                 {"quality", int(cc::QualityPreset::Quality)}};
+    app.add_option("--preset", o.preset, "Speed against accuracy: the World's solver effort and pixel tolerance "
+                                         "(WorldDesc::applyPreset; default: the default WorldDesc)")
+        ->transform(CLI::CheckedTransformer(kPresets, CLI::ignore_case));
     app.add_option("--churn", o.churn, "Share of the characters that leave per second, each replaced by an identical "
                                        "one (new handles; a soak's joins and leaves)")
         ->check(CLI::Range(0.0, 60.0));

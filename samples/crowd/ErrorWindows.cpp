@@ -24,7 +24,11 @@ struct StudyWorld {
     cc::Status status;
 };
 
-StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int level) {
+/// A World with the scene's walker wearing its garment, cut with `levelCount` levels (0 = the
+/// scene's); `level` forced (-1 = the top one), or left to the scheduler with kScheduled.
+constexpr int kScheduled = -2;
+StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int level, uint32_t levelCount = 0) {
+    if (levelCount == 0) levelCount = scene.levelCount;
     StudyWorld s;
     auto created = cc::World::create(desc);
     if (!created.isOk()) {
@@ -34,8 +38,8 @@ StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int le
     s.world.reset(created.value());
     cc::ClothAssetDesc asset;
     asset.kind = scene.kind;
-    asset.levelCount = scene.levelCount;
-    asset.renderLevel = scene.levelCount - 1;
+    asset.levelCount = levelCount;
+    asset.renderLevel = std::max(levelCount - 1, cc::ClothAssetDesc{}.renderLevel);
     auto assetId = s.world->addClothAsset(asset);
     auto body = s.world->addMannequinBody({});
     if (!assetId.isOk() || !body.isOk()) {
@@ -52,7 +56,7 @@ StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int le
     }
     s.walker = walker.value();
     cc::GarmentDesc gd;
-    gd.forceLevel = level < 0 ? int(scene.levelCount) - 1 : level;
+    gd.forceLevel = level == kScheduled ? -1 : level < 0 ? int(levelCount) - 1 : level;
     auto garment = s.world->addGarment(assetId.value(), s.walker, gd);
     s.status = garment.status();
     if (garment.isOk()) s.garment = garment.value();
@@ -106,6 +110,7 @@ double overWindows(const std::vector<cc::lod::MeshDeviation>& windows, double p,
 
 } // namespace
 
+double WindowResult::medianMs() const { return percentile(windowMs, 0.5); }
 double WindowResult::medianRmsMm() const {
     return overWindows(windows, 0.5, [](const cc::lod::MeshDeviation& w) { return 1e3 * w.rmsMetres; });
 }
@@ -153,35 +158,58 @@ ReferenceRun recordReference(const WindowScene& scene, const cc::WorldDesc& desc
     return run;
 }
 
-WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const cc::WorldDesc& desc, int level) {
-    WindowResult result;
-    StudyWorld s = makeWorld(scene, desc, level);
-    if (!s.status || !reference.ok) {
-        result.ok = false;
-        return result;
+std::vector<WindowResult> runWindows(const WindowScene& scene, const ReferenceRun& reference,
+                                     const std::vector<WindowConfig>& configs) {
+    std::vector<WindowResult> results(configs.size());
+    std::vector<StudyWorld> worlds;
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+        worlds.push_back(makeWorld(scene, configs[c].desc, configs[c].level));
+        results[c].ok = worlds.back().status.isOk() && reference.ok;
     }
     const int length = int(std::lround(scene.window / kDt));
-    double ms = 0.0;
-    int updates = 0;
-    for (std::size_t k = 0; k < reference.startFrames.size() && result.ok; ++k) {
-        const std::vector<uint8_t>& saved = reference.snapshots[k];
-        result.ok = s.world->restoreState(saved.data(), saved.size(), cc::RestoreMode::OtherSolver).isOk() &&
-                    s.world->setGarmentLevel(s.garment, level).isOk();
-        cc::GarmentStats stats;
-        for (int f = reference.startFrames[k] + 1; f <= reference.startFrames[k] + length && result.ok; ++f) {
-            result.ok = advance(scene, s, f, ms, &stats);
-            ++updates;
-            result.maxStrain = std::max(result.maxStrain, stats.maxStrain);
+    // Window by window across the configurations: a slow minute of a shared machine then falls on
+    // every configuration alike instead of on whichever ran in it.
+    for (std::size_t k = 0; k < reference.startFrames.size(); ++k)
+        for (std::size_t c = 0; c < configs.size(); ++c) {
+            WindowResult& result = results[c];
+            StudyWorld& s = worlds[c];
+            if (!result.ok) continue;
+            const std::vector<uint8_t>& saved = reference.snapshots[k];
+            result.ok = s.world->restoreState(saved.data(), saved.size(), cc::RestoreMode::OtherSolver).isOk() &&
+                        s.world->setGarmentLevel(s.garment, configs[c].level).isOk();
+            cc::GarmentStats stats;
+            double ms = 0.0;
+            for (int f = reference.startFrames[k] + 1; f <= reference.startFrames[k] + length && result.ok; ++f) {
+                result.ok = advance(scene, s, f, ms, &stats);
+                result.maxStrain = std::max(result.maxStrain, stats.maxStrain);
+            }
+            result.windowMs.push_back(ms / length);
+            result.vertices = stats.vertexCount;
+            result.substeps = stats.substeps;
+            result.iterationsPerSubstep = stats.iterations / std::max(1u, stats.substeps);
+            const std::vector<float> mesh = renderPositions(s);
+            result.windows.push_back(cc::lod::meshDeviation(mesh.data(), reference.endMeshes[k].data(), mesh.size() / 3,
+                                                            &reference.cameras[k]));
         }
-        result.vertices = stats.vertexCount;
-        result.substeps = stats.substeps;
-        result.iterationsPerSubstep = stats.iterations / std::max(1u, stats.substeps);
-        const std::vector<float> mesh = renderPositions(s);
-        result.windows.push_back(
-            cc::lod::meshDeviation(mesh.data(), reference.endMeshes[k].data(), mesh.size() / 3, &reference.cameras[k]));
+    return results;
+}
+
+WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const cc::WorldDesc& desc, int level) {
+    return runWindows(scene, reference, {{desc, level}}).front();
+}
+
+int scheduledLevel(const WindowScene& scene, const cc::WorldDesc& desc, uint32_t levelCount) {
+    StudyWorld s = makeWorld(scene, desc, kScheduled, levelCount);
+    if (!s.status) return -1;
+    std::vector<int> updatesAt(levelCount, 0);
+    const int frames = int(std::lround(scene.seconds / kDt)), first = int(std::lround(scene.firstWindow / kDt));
+    double ms = 0.0;
+    cc::GarmentStats stats;
+    for (int f = 1; f <= frames; ++f) {
+        if (!advance(scene, s, f, ms, &stats)) return -1;
+        if (f > first && stats.updated && stats.level >= 0 && stats.level < int(levelCount)) ++updatesAt[stats.level];
     }
-    result.meanMs = ms / std::max(1, updates);
-    return result;
+    return int(std::max_element(updatesAt.begin(), updatesAt.end()) - updatesAt.begin());
 }
 
 } // namespace crowd

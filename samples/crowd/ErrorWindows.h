@@ -39,10 +39,11 @@ struct ReferenceRun {
 /// What one configuration does over every window of a scene.
 struct WindowResult {
     std::vector<cc::lod::MeshDeviation> windows;  ///< at each window's end
-    double meanMs = 0.0;                          ///< [ms] per garment update, measured
+    std::vector<double> windowMs;                 ///< [ms] per garment update, mean over each window
     uint32_t vertices = 0, substeps = 0, iterationsPerSubstep = 0;
     double maxStrain = 0.0;
     bool ok = true;
+    double medianMs() const;   ///< median over the windows: robust to a burst of load on a shared machine
     double medianRmsMm() const;
     double p95MaxMm() const;   ///< 95th percentile over the windows of the largest vertex distance
     double p95MaxPx() const;   ///< the same on screen
@@ -58,5 +59,21 @@ ReferenceRun recordReference(const WindowScene& scene, const cc::WorldDesc& desc
 /// Restarts every window of `reference` at `level` under `desc` and measures it against the
 /// reference's end of window.
 WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const cc::WorldDesc& desc, int level);
+
+/// One configuration of a comparison: the World's settings and the level forced.
+struct WindowConfig {
+    cc::WorldDesc desc;
+    int level = 0;
+};
+
+/// runWindows for several configurations at once, interleaved window by window (so the machine's
+/// drift in speed falls on all of them alike; their costs compare).
+std::vector<WindowResult> runWindows(const WindowScene& scene, const ReferenceRun& reference,
+                                     const std::vector<WindowConfig>& configs);
+
+/// The level the scheduler gives the scene's garment, cut with `levelCount` levels, under `desc`
+/// (its pixel tolerance, the study camera): the level of most updates after the drape-in; -1 if
+/// the run fails.
+int scheduledLevel(const WindowScene& scene, const cc::WorldDesc& desc, uint32_t levelCount);
 
 } // namespace crowd

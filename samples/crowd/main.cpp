@@ -92,6 +92,8 @@ int runCrowd(const RunOptions& o) {
     cc::WorldDesc desc;
     desc.maxThreads = uint32_t(o.threads);
     desc.frameBudgetMs = scene.budgetMs;
+    if (o.preset >= 0)
+        if (cc::Status s = desc.applyPreset(cc::QualityPreset(uint32_t(o.preset))); !s) return fail(s.message());
     if (o.fullResolution) crowd::useFullResolution(desc);
     auto created = cc::World::create(desc);
     if (!created.isOk()) return fail(created.status().message());

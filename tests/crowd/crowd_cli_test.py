@@ -140,8 +140,17 @@ def test_tradeoff(exe, out):
         check(len(match) == 1, f"{scene} {knob} {key}: {len(match)} rows")
         return float(match[0]["rms_mm"])
 
+    check(re.search(r"^BAR presets front=[01] scenes=3 presets=3$", p.stdout, re.M), "no BAR presets line")
     for scene in scenes:
         check(any(r["front"] == "1" for r in rows if r["scene"] == scene), f"{scene}: no front")
+        # Every preset is measured in every scene, ordered: Fast no finer than Balanced, no finer than Quality.
+        level = {}
+        for r in rows:
+            for name in filter(None, r["preset"].split("+")):
+                if r["scene"] == scene:
+                    level[name] = int(r["level"])
+        check(set(level) == {"fast", "balanced", "quality"}, f"{scene}: presets {sorted(level)}")
+        check(level["fast"] <= level["balanced"] <= level["quality"], f"{scene}: preset levels {level}")
         # The reference checked by one more refinement in time lies nearer than any shipped level:
         # the error it measures is the configurations', not the reference's own.
         reference = rms(scene, "ref-time")
