@@ -19,6 +19,11 @@ function(cc_library_options target)
     cc_target_options(${target})
     if(CC_UNITY_LIBRARIES)
         set_target_properties(${target} PROPERTIES UNITY_BUILD ON)
+        # GCC reads a unity file's included .cpp as a header, so a class holding a type from that
+        # .cpp's anonymous namespace draws -Wsubobject-linkage; one file per unit has no such issue.
+        if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+            target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+        endif()
     endif()
 endfunction()
 

@@ -8,6 +8,10 @@ cd "$(dirname "$0")/.."
 root=$PWD
 
 san="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+# GCC 12 under these sanitizers reports -Wmaybe-uninitialized inside libstdc++'s <regex> (the move of
+# a std::function in _NFA::_M_insert_subexpr_begin): a false positive in the library's own code.
+# The Release build keeps the warning for ours.
+nowarn="-Wno-maybe-uninitialized"
 # Set for the build too: gtest_discover_tests runs every test executable once to list its tests.
 export ASAN_OPTIONS="detect_leaks=1:check_initialization_order=1:strict_init_order=1"
 export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
@@ -17,7 +21,7 @@ start=$(date +%s)
 # -O2 -g1: optimised (Eigen is slow without inlining), line tables for the reports' stacks.
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_SAMPLES=OFF -DCC_UNITY_LIBRARIES=ON \
       -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-      -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" \
+      -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san $nowarn" \
       -DCMAKE_EXE_LINKER_FLAGS="$san" -DCMAKE_SHARED_LINKER_FLAGS="$san"
 # Only what runs here: the fast suites. The *_slow_tests suites (label 'slow'), the samples'
 # renderer and anything else no fast suite needs are left to the Release build.
