@@ -73,6 +73,12 @@ thread_local std::string gCreateError;
 #define CC_CHECK_OUT(w, p, name)                                                                             \
     if (!(p)) return fail(w, CC_INVALID_ARGUMENT, name " is null")
 
+/// Why a C world desc cannot be read (null, or not stamped by cc_world_desc_init); empty if it can.
+std::string worldDescRefusal(const cc_world_desc* d) {
+    if (!d) return "world desc is null";
+    return stampError("world desc", "cc_world_desc_init", d->version);
+}
+
 } // namespace
 
 CC_CHECK_FIELDS(world, CC_WORLD_FIELDS, cc_world_desc, cc::WorldDesc, 1)
@@ -112,15 +118,8 @@ CC_DESC_INIT(cc_body_landmarks_init, cc_body_landmarks, cc::BodyLandmarkDesc, CC
 CC_DESC_INIT(cc_camera_desc_init, cc_camera_desc, cc::CameraDesc, CC_CAMERA_FIELDS)
 
 cc_status cc_world_desc_apply_preset(cc_world_desc* d, int32_t preset) {
-    gCreateError.clear();
-    if (!d) {
-        gCreateError = "world desc is null";
-        return CC_INVALID_ARGUMENT;
-    }
-    if (std::string refused = stampError("world desc", "cc_world_desc_init", d->version); !refused.empty()) {
-        gCreateError = std::move(refused);
-        return CC_INVALID_ARGUMENT;
-    }
+    gCreateError = worldDescRefusal(d);
+    if (!gCreateError.empty()) return CC_INVALID_ARGUMENT;
     if (preset < 0) {
         gCreateError = "cc_quality_preset " + std::to_string(preset) + " is not a preset (0 fast, 1 balanced, 2 quality)";
         return CC_INVALID_ARGUMENT;
@@ -142,14 +141,8 @@ cc_status cc_world_create(const cc_world_desc* d, cc_world** out_world) {
         return CC_INVALID_ARGUMENT;
     }
     *out_world = nullptr;
-    if (!d) {
-        gCreateError = "world desc is null";
-        return CC_INVALID_ARGUMENT;
-    }
-    if (std::string refused = stampError("world desc", "cc_world_desc_init", d->version); !refused.empty()) {
-        gCreateError = std::move(refused);
-        return CC_INVALID_ARGUMENT;
-    }
+    gCreateError = worldDescRefusal(d);
+    if (!gCreateError.empty()) return CC_INVALID_ARGUMENT;
     try {
         cc::WorldDesc x;
         CC_WORLD_FIELDS(CC_TO_CPP)
