@@ -12,7 +12,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr double kMaxCorrectionReach = 0.25;  ///< [m] most a correction looks for the body
+constexpr double kMaxContactReach = 0.25;     ///< [m] most a contact query looks for the body
 constexpr int kCorrectionLimitPasses = 32;    ///< sweeps of the strain limit after the body's pushes
 constexpr double kSurfaceFraction = 0.05;     ///< of the thickness: where the last push puts a vertex
 
@@ -178,11 +178,22 @@ Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateRepor
     const auto start = Clock::now();
     // Contact planes from the still cloth against the body's end pose, once for the whole update
     // (the body sweeps past the cloth; the substeps move each plane along its surface velocity).
+    // Each vertex looks as far as its own motion may carry it (Bridson, Fedkiw & Anderson 2002
+    // test proximity over the step's motion for the same reason): a plane it never reaches costs
+    // nothing in the solve, one it reaches holds it there with its neighbours.
     mContacts.clear();
     if (context.collider) {
+        collision::BodyContactSettings settings = contactSettings();
+        if (context.contactLookahead > 0.0) {
+            mMargins.resize(mStepStart.size());
+            for (std::size_t v = 0; v < mStepStart.size(); ++v) {
+                const double ahead = context.contactLookahead * context.dt * mVelocities[v].norm();
+                mMargins[v] = ahead > mAsset->desc.thickness ? std::min(ahead, kMaxContactReach) : mAsset->desc.thickness;
+            }
+            settings.query.pointMargins = mMargins;
+        }
         const collision::Collider* colliders[1] = {context.collider};
-        if (Status s = mContactStage.gather(colliders, mStepStart, mStepStart, contactSettings(), mContacts); !s)
-            return s;
+        if (Status s = mContactStage.gather(colliders, mStepStart, mStepStart, settings, mContacts); !s) return s;
     }
     outReport.contacts = uint32_t(mContacts.size());
     outReport.collisionMs = msSince(start);
@@ -236,7 +247,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
         // for every vertex, and cost more than the solve.)
         mMargins.resize(mPositions.size());
         for (std::size_t v = 0; v < mPositions.size(); ++v)
-            mMargins[v] = std::clamp((mPositions[v] - mStepStart[v]).norm(), mAsset->desc.thickness, kMaxCorrectionReach);
+            mMargins[v] = std::clamp((mPositions[v] - mStepStart[v]).norm(), mAsset->desc.thickness, kMaxContactReach);
         collision::BodyContactSettings settings = contactSettings();
         settings.query.pointMargins = mMargins;
         const collision::Collider* colliders[1] = {context.collider};
@@ -250,6 +261,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
                                               mMoved);
             !s)
             return s;
+        inOutReport.bodyCorrections = corrected;
         if (corrected > 0) {
             // A push out of one part of the body can end inside another (out of the pelvis, into
             // the thigh it overlaps): one more proximity pass, which knows which part a point is in.

@@ -32,12 +32,19 @@ struct GarmentUpdateContext {
                                                     ///< in the character's frame
     Vec3 angularVelocity = Vec3::Zero();            ///< [rad/s] of the character's frame, over the step
     Vec3 angularAcceleration = Vec3::Zero();        ///< [rad/s^2]
+    /// How far ahead each vertex looks for the update's contact planes, in multiples of the
+    /// distance its velocity carries it over the step (at least the thickness): cloth falling or
+    /// swinging onto the body meets a plane inside the solve, where its neighbours respond,
+    /// instead of being pushed out after it where the strain limit cannot follow. 0 = planes only
+    /// within the thickness of the body.
+    double contactLookahead = 2.0;
 };
 
 /// What the last update did besides the solve.
 struct GarmentUpdateReport {
     uint32_t contacts = 0;
     uint32_t failSafes = 0;
+    uint32_t bodyCorrections = 0;  ///< vertices the body pushed out after the solve
     double collisionMs = 0.0;  ///< [ms] contacts and self-collision
 };
 
@@ -153,7 +160,7 @@ private:
     collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
     std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update
-    std::vector<double> mMargins;           ///< per vertex: how far the correction looks for the body
+    std::vector<double> mMargins;           ///< per vertex: how far a contact query looks for the body
     cloth::SubstepWorkspace mLimitWork;     ///< the strain limit after the body's corrections
     std::vector<Vec3> mStepStart;           ///< positions before the solve
     collision::SelfCollision mSelf;         ///< for the current level, made on first need

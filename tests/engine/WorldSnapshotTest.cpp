@@ -136,7 +136,11 @@ void populate(World& world, const Cooked& s, Crowd& run) {
     run.hostCharacter = world.addCharacter(c).value();
     run.characters[kCrowd - 1] = run.hostCharacter;
     // The host's body is a mannequin's mesh: its landmarks are measured from the geometry.
-    run.garments[kCrowd - 1] = world.addGarment(s.cape, run.hostCharacter, {}).value();
+    // Nearest the camera at the end, and weighted so the tight budget refines it to the levels
+    // that self-collide once it is seen large.
+    GarmentDesc important;
+    important.importance = 20.0;
+    run.garments[kCrowd - 1] = world.addGarment(s.cape, run.hostCharacter, important).value();
 }
 
 void events(World& world, const Cooked& s, Crowd& run, int frame) {
