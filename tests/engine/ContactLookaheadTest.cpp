@@ -23,6 +23,7 @@ struct Update {
     double deepestPush = 0.0;  ///< [m] the farthest the body moved a vertex after the solve
     double totalPush = 0.0;    ///< [m] summed over the vertices
     double strain = 0.0;       ///< largest edge strain after the update
+    double thickness = 0.0;    ///< [m] the garment's
 };
 
 /// One 1/60 s update of a cape on the standing mannequin, every free vertex thrown at the body's
@@ -85,6 +86,7 @@ Update throwCapeAtBody(double lookahead, double speed) {
     }
     out.corrections = report.bodyCorrections;
     out.strain = g.maxEdgeStrain();
+    out.thickness = desc.thickness;
     return out;
 }
 
@@ -102,7 +104,7 @@ TEST(ContactLookahead, ClothThrownAtTheBodyMeetsItInsideTheSolve) {
         // it (the case is meaningful); with it the solve does, and what is left after it is a
         // top-up to the thickness. The strain limit holds either way here (no two pushes pinch an
         // edge).
-        const double thickness = ClothAssetDesc{}.thickness;
+        const double thickness = near.thickness;
         EXPECT_GT(near.deepestPush, thickness);
         EXPECT_GT(ahead.planes, near.planes);
         EXPECT_LT(ahead.deepestPush, 0.1 * thickness);
