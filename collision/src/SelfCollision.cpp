@@ -12,6 +12,15 @@ namespace {
 /// so they are left alone (x0 is assumed free of contact).
 constexpr double kTouching = 1e-12;  // [m]
 
+/// A pair gets separating planes only when its line of closest points is within about 60 degrees
+/// of the face's normal.
+constexpr double kFaceCone = 0.5;
+
+/// Cosine of the cone within which a vertex's separating planes count as one (about 11 degrees),
+/// and how many directions a vertex keeps.
+constexpr double kMergeCone = 0.98;
+constexpr int kPlanesPerVertex = 4;
+
 std::string vertexName(std::size_t v) { return "vertex " + std::to_string(v); }
 
 } // namespace
@@ -37,6 +46,28 @@ Status SelfCollisionSettings::validate() const {
         return Status::invalidArgument("SelfCollisionSettings.zoneIterations must be >= 1, got " +
                                        std::to_string(zoneIterations));
     }
+    return Status::ok();
+}
+
+Status SeparatingPlaneSettings::validate() const {
+    if (!(thickness > 0.0) || !std::isfinite(thickness))
+        return Status::invalidArgument("SeparatingPlaneSettings.thickness must be finite and > 0, got " +
+                                       std::to_string(thickness));
+    if (!(repulsionFraction >= 0.0 && repulsionFraction <= 1.0))
+        return Status::invalidArgument("SeparatingPlaneSettings.repulsionFraction must be in [0, 1], got " +
+                                       std::to_string(repulsionFraction));
+    if (!(lookahead >= 0.0) || !std::isfinite(lookahead))
+        return Status::invalidArgument("SeparatingPlaneSettings.lookahead must be finite and >= 0, got " +
+                                       std::to_string(lookahead));
+    if (!(maxReach > 0.0) || !std::isfinite(maxReach))
+        return Status::invalidArgument("SeparatingPlaneSettings.maxReach must be finite and > 0, got " +
+                                       std::to_string(maxReach));
+    if (!(acceleration >= 0.0) || !std::isfinite(acceleration))
+        return Status::invalidArgument("SeparatingPlaneSettings.acceleration must be finite and >= 0, got " +
+                                       std::to_string(acceleration));
+    if (!(solverOffset >= 0.0) || !std::isfinite(solverOffset))
+        return Status::invalidArgument("SeparatingPlaneSettings.solverOffset must be finite and >= 0, got " +
+                                       std::to_string(solverOffset));
     return Status::ok();
 }
 
@@ -72,6 +103,7 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
             self.mEdges.push_back({h[0], h[1]});
         }
         self.mTriangleEdges[h[2] / 3][h[2] % 3] = static_cast<uint32_t>(self.mEdges.size() - 1);
+        if (self.mEdgeTriangle.size() < self.mEdges.size()) self.mEdgeTriangle.push_back(h[2] / 3);
     }
     return self;
 }
@@ -79,19 +111,35 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
 void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                                std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    mVertexBoxes.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        Aabb box;
+        box.grow(x0[v]);
+        box.grow(x1[v]);
+        mVertexBoxes[v] = box;
+    }
+    candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
+}
+
+void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
+                                      std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                      std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
     outVertexTriangle.clear();
     outEdgeEdge.clear();
-    // Triangle boxes swept over the step and grown by the margin; a vertex or edge box overlaps one
-    // whenever their L-infinity gap, hence their distance, can be below the margin.
+    // Triangle boxes (the hull of their vertices' boxes) grown by the margin; a vertex or edge box
+    // overlaps one whenever their L-infinity gap, hence their distance, can be below the margin.
+    auto hull = [&](const auto& vertices) {
+        Aabb box;
+        for (uint32_t v : vertices) {
+            box.grow(vertexBoxes[v].lo);
+            box.grow(vertexBoxes[v].hi);
+        }
+        return box;
+    };
     mBoxes.resize(mTriangles.size());
     for (std::size_t t = 0; t < mTriangles.size(); ++t) {
-        Aabb box;
-        for (uint32_t v : mTriangles[t]) {
-            box.grow(x0[v]);
-            box.grow(x1[v]);
-        }
-        box.inflate(margin);
-        mBoxes[t] = box;
+        mBoxes[t] = hull(mTriangles[t]);
+        mBoxes[t].inflate(margin);
     }
     if (mBvhBuilt) {
         mBvh.refit(mBoxes);
@@ -99,27 +147,18 @@ void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double 
         mBvh.build(mBoxes);
         mBvhBuilt = true;
     }
-    std::vector<uint32_t> hits;
+    std::vector<uint32_t>& hits = mHits;
     for (uint32_t v = 0; v < mVertexCount; ++v) {
-        Aabb box;
-        box.grow(x0[v]);
-        box.grow(x1[v]);
         hits.clear();
-        mBvh.query(box, hits);
+        mBvh.query(vertexBoxes[v], hits);
         for (uint32_t t : hits) {
             const auto& tri = mTriangles[t];
             if (tri[0] != v && tri[1] != v && tri[2] != v) outVertexTriangle.push_back({v, t});
         }
     }
-    std::vector<Aabb> edgeBoxes(mEdges.size());
-    for (std::size_t e = 0; e < mEdges.size(); ++e) {
-        Aabb box;
-        for (uint32_t v : mEdges[e]) {
-            box.grow(x0[v]);
-            box.grow(x1[v]);
-        }
-        edgeBoxes[e] = box;
-    }
+    std::vector<Aabb>& edgeBoxes = mEdgeBoxes;
+    edgeBoxes.resize(mEdges.size());
+    for (std::size_t e = 0; e < mEdges.size(); ++e) edgeBoxes[e] = hull(mEdges[e]);
     for (uint32_t e = 0; e < mEdges.size(); ++e) {
         hits.clear();
         mBvh.query(edgeBoxes[e], hits);
@@ -141,6 +180,47 @@ void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double 
     outEdgeEdge.erase(std::unique(outEdgeEdge.begin(), outEdgeEdge.end()), outEdgeEdge.end());
 }
 
+bool SelfCollision::cachedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                                     std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                     std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    if (!mCacheValid || margin > mCacheMargin || x0.size() != mCacheStart.size() ||
+        !std::equal(x0.begin(), x0.end(), mCacheStart.begin()))
+        return false;
+    mVertexBoxes.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        const Aabb& cached = mCacheBoxes[v];
+        if (!(x1[v].array() >= cached.lo.array()).all() || !(x1[v].array() <= cached.hi.array()).all()) return false;
+        Aabb box;
+        box.grow(x0[v]);
+        box.grow(x1[v]);
+        mVertexBoxes[v] = box;
+    }
+    // Every vertex stayed in its cached box, so the cached pairs hold every pair the broad phase
+    // would find now: filtering them by the same box tests gives the same sorted lists.
+    auto hull = [&](const auto& vertices) {
+        Aabb box;
+        for (uint32_t v : vertices) {
+            box.grow(mVertexBoxes[v].lo);
+            box.grow(mVertexBoxes[v].hi);
+        }
+        box.inflate(margin);
+        return box;
+    };
+    outVertexTriangle.clear();
+    outEdgeEdge.clear();
+    for (const auto& pair : mCacheVf)
+        if (hull(mTriangles[pair[1]]).overlaps(mVertexBoxes[pair[0]])) outVertexTriangle.push_back(pair);
+    for (const auto& pair : mCacheEe) {
+        Aabb first;
+        for (uint32_t v : mEdges[pair[0]]) {
+            first.grow(mVertexBoxes[v].lo);
+            first.grow(mVertexBoxes[v].hi);
+        }
+        if (hull(mEdges[pair[1]]).overlaps(first)) outEdgeEdge.push_back(pair);
+    }
+    return true;
+}
+
 namespace {
 
 /// A pair as signed weights on its 4 vertices: separation = sum w_i x_i points from the triangle
@@ -158,6 +238,13 @@ PairGeometry edgeEdgePair(const std::array<uint32_t, 2>& a, const std::array<uin
     return {{a[0], a[1], b[0], b[1]}, {1.0 - s, s, -(1.0 - u), -u}};
 }
 
+/// Unit normal of a triangle at x (zero for a degenerate one, which then faces nothing).
+Vec3 unitNormal(Span<const Vec3> x, const std::array<uint32_t, 3>& tri) {
+    const Vec3 n = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+    const double length = n.norm();
+    return length > 0.0 ? Vec3(n / length) : Vec3::Zero();
+}
+
 Vec3 separation(const PairGeometry& g, Span<const Vec3> x) {
     Vec3 d = Vec3::Zero();
     for (int i = 0; i < 4; ++i) d += g.weights[i] * x[g.vertices[i]];
@@ -165,6 +252,130 @@ Vec3 separation(const PairGeometry& g, Span<const Vec3> x) {
 }
 
 } // namespace
+
+Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> velocities, double dt,
+                                       const SeparatingPlaneSettings& settings, std::vector<Contact>& outPlanes) {
+    if (Status valid = settings.validate(); !valid) return valid;
+    if (!(dt > 0.0) || !std::isfinite(dt))
+        return Status::invalidArgument("SelfCollision::separatingPlanes: dt must be finite and > 0, got " +
+                                       std::to_string(dt));
+    if (x0.size() != mVertexCount || velocities.size() != mVertexCount)
+        return Status::invalidArgument("SelfCollision::separatingPlanes: expected " + std::to_string(mVertexCount) +
+                                       " positions and velocities, got " + std::to_string(x0.size()) + " and " +
+                                       std::to_string(velocities.size()));
+    // Where each vertex could get to: its velocity over `lookahead` steps, at most maxReach.
+    mReachEnd.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        if (!isFinite(x0[v]) || !isFinite(velocities[v]))
+            return Status::invalidArgument("SelfCollision::separatingPlanes: non-finite position or velocity at " +
+                                           vertexName(v));
+        Vec3 motion = (settings.lookahead * dt) * velocities[v];
+        const double length = motion.norm();
+        if (length > settings.maxReach) motion *= settings.maxReach / length;
+        mReachEnd[v] = x0[v] + motion;
+    }
+    const double h = settings.thickness;
+    // A layer held by the body under one that falls onto it closes at the acceleration the other
+    // feels, which a velocity does not show yet.
+    const double accelerationReach = 0.5 * settings.acceleration * (settings.lookahead * dt) * (settings.lookahead * dt);
+    // One broad phase for the update: each vertex's box reaches as far as its look-ahead and the
+    // acceleration could carry it, and resolve() after the solve filters these pairs instead of
+    // searching again while every vertex ends inside its box (cachedCandidates).
+    mCacheBoxes.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        Aabb box;
+        box.grow(x0[v]);
+        box.grow(mReachEnd[v]);
+        box.inflate(accelerationReach);
+        mCacheBoxes[v] = box;
+    }
+    candidatesOfBoxes(mCacheBoxes, h, mCacheVf, mCacheEe);
+    mCacheStart.assign(x0.begin(), x0.end());
+    mCacheMargin = h;
+    mCacheValid = true;
+
+    // Layers at rest give a vertex a plane from every primitive of the other layer within reach,
+    // all facing nearly the same way: planes within kMergeCone of one another are one plane, the
+    // one that reaches farthest along its normal at the step's end (the solver projects each plane
+    // in turn, so near-copies cost time and settle nothing). A vertex keeps kPlanesPerVertex
+    // directions; a further one merges into the nearest. Pairs come in sorted order, so which plane
+    // is kept does not depend on threads.
+    mPlanes.resize(std::size_t(mVertexCount) * kPlanesPerVertex);
+    mPlaneCount.assign(mVertexCount, 0);
+    auto keepPlane = [&](const Contact& c) {
+        Contact* slots = &mPlanes[std::size_t(c.vertex) * kPlanesPerVertex];
+        uint8_t& count = mPlaneCount[c.vertex];
+        int nearest = -1;
+        double nearestCos = -2.0;
+        for (int k = 0; k < count; ++k) {
+            const double cosine = slots[k].normal.dot(c.normal);
+            if (cosine > nearestCos) nearestCos = cosine, nearest = k;
+        }
+        if (nearestCos < kMergeCone && count < kPlanesPerVertex) {
+            slots[count++] = c;
+        } else if (slots[nearest].normal.dot(c.point - slots[nearest].point) > 0.0) {
+            slots[nearest] = c;
+        }
+    };
+    uint32_t ordinal = 0;
+    // sideA: how many of the pair's vertices are on the side the separation points to.
+    auto addPair = [&](const PairGeometry& g, int sideA, const Vec3& faceNormal) {
+        const uint32_t pair = ordinal++;
+        const Vec3 d = separation(g, x0);
+        const double gap = d.norm();
+        if (gap <= kTouching) return;
+        const Vec3 n = d / gap;
+        // The pair's approach along its normal over the look-ahead (negative = closing): a pair
+        // that moves together, neighbours in a falling sheet, needs no plane however close.
+        double opening = 0.0;
+        Vec3 pointA = Vec3::Zero(), pointB = Vec3::Zero(), velocityA = Vec3::Zero(), velocityB = Vec3::Zero();
+        for (int i = 0; i < 4; ++i) {
+            const uint32_t v = g.vertices[i];
+            opening += g.weights[i] * (mReachEnd[v] - x0[v]).dot(n);
+            (i < sideA ? pointA : pointB) += std::abs(g.weights[i]) * x0[v];
+            (i < sideA ? velocityA : velocityB) += std::abs(g.weights[i]) * velocities[v];
+        }
+        if (gap >= h + std::max(0.0, -opening) + accelerationReach) return;
+        // Layers meet face to face: a pair whose line of closest points lies along the cloth
+        // (neighbours a few rings apart in a sheet, whose only way to meet is to squash the cloth
+        // between them) gets no plane; the continuous tests after the solve still watch it.
+        if (std::abs(n.dot(faceNormal)) < kFaceCone) return;
+        const double kept = gap >= h ? h : gap + settings.repulsionFraction * (h - gap);
+        const Vec3 velocity = 0.5 * (velocityA + velocityB);
+        const Vec3 midAtEnd = 0.5 * (pointA + pointB) + dt * velocity;
+        for (int i = 0; i < 4; ++i) {
+            const Vec3 normal = i < sideA ? n : Vec3(-n);
+            Contact c;
+            c.vertex = g.vertices[i];
+            c.primitive = pair;
+            c.normal = normal;
+            c.point = midAtEnd + (0.5 * kept - settings.solverOffset) * normal;
+            c.surfaceVelocity = velocity;
+            c.depth = 0.5 * kept - normal.dot(x0[c.vertex] - 0.5 * (pointA + pointB));
+            keepPlane(c);
+        }
+    };
+    for (const auto& pair : mCacheVf) {
+        const auto& tri = mTriangles[pair[1]];
+        const std::array<double, 3> w = closestTriangleWeights(x0[pair[0]], x0[tri[0]], x0[tri[1]], x0[tri[2]]);
+        addPair(vertexTrianglePair(pair[0], tri, w), 1, unitNormal(x0, tri));
+    }
+    for (const auto& pair : mCacheEe) {
+        const auto& a = mEdges[pair[0]];
+        const auto& b = mEdges[pair[1]];
+        const std::array<double, 2> su = closestSegmentParameters(x0[a[0]], x0[a[1]], x0[b[0]], x0[b[1]]);
+        // Closest at an end of either edge: that end's vertex-triangle pairs hold the same plane.
+        if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) continue;
+        // The face of either edge's first triangle that is more nearly across the pair.
+        const Vec3 na = unitNormal(x0, mTriangles[mEdgeTriangle[pair[0]]]);
+        const Vec3 nb = unitNormal(x0, mTriangles[mEdgeTriangle[pair[1]]]);
+        const Vec3 d = (1.0 - su[0]) * x0[a[0]] + su[0] * x0[a[1]] - (1.0 - su[1]) * x0[b[0]] - su[1] * x0[b[1]];
+        addPair(edgeEdgePair(a, b, su[0], su[1]), 2, std::abs(d.dot(na)) >= std::abs(d.dot(nb)) ? na : nb);
+    }
+    for (uint32_t v = 0; v < mVertexCount; ++v)
+        for (uint32_t k = 0; k < mPlaneCount[v]; ++k) outPlanes.push_back(mPlanes[std::size_t(v) * kPlanesPerVertex + k]);
+    return Status::ok();
+}
 
 void SelfCollision::applyImpulse(const Collision& c, Span<const Vec3> x0, Span<Vec3> x1) const {
     double approach = 0.0, denominator = 0.0;
@@ -220,8 +431,12 @@ void SelfCollision::applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfColli
 
 void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
                                    SelfCollisionStats& stats) {
-    std::vector<std::array<uint32_t, 2>> vf, ee;
-    candidates(x0, x1, mSettings.ccdGap, vf, ee);
+    std::vector<std::array<uint32_t, 2>>& vf = mPairsVf;
+    std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
+    if (!cachedCandidates(x0, x1, mSettings.ccdGap, vf, ee)) {
+        candidates(x0, x1, mSettings.ccdGap, vf, ee);
+        ++stats.broadPhases;
+    }
     const std::size_t total = vf.size() + ee.size();
     std::vector<Collision> found(total);
     std::vector<uint8_t> status(total, 0);  // 0 none, 1 contact, 2 contact with capped search
@@ -262,15 +477,16 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
             CcdSettings ccd;
             ccd.thickness = std::min(mSettings.ccdGap, 0.25 * gap0);
             ccd.timeTolerance = 1e-5;  // toi only places the normal and weights of the impulse
-            // Cheap proof of separation first: every point of a primitive moves no faster than its
-            // fastest vertex, so the distance changes at most by `reach` over the step and stays above
-            // (gap0 + gap1 - reach) / 2. Most candidates of a garment at rest in layers end here.
-            double fastest[2] = {0.0, 0.0};
-            for (int i = 0; i < 4; ++i) {
-                const int side = isVf ? (i == 0 ? 0 : 1) : i / 2;
-                fastest[side] = std::max(fastest[side], (finish[i] - start[i]).norm());
-            }
-            const double reach = fastest[0] + fastest[1];
+            // Cheap proof of separation first: the closest points' relative motion is a convex
+            // combination of the vertices' relative motions across the pair, so the distance changes
+            // at most by `reach`, the largest of those, over the step and stays above
+            // (gap0 + gap1 - reach) / 2. Most candidates of a garment at rest in layers end here, and
+            // so do neighbours in a sheet that falls or swings as one (relative, not absolute motion).
+            const int sideA = isVf ? 1 : 2;
+            double reach = 0.0;
+            for (int i = 0; i < sideA; ++i)
+                for (int j = sideA; j < 4; ++j)
+                    reach = std::max(reach, ((finish[i] - start[i]) - (finish[j] - start[j])).norm());
             const double gap1 = distance(finish);
             if (0.5 * (gap0 + gap1 - reach) > 1.01 * ccd.thickness) continue;
             ccd.distanceTolerance = 0.1 * ccd.thickness;
@@ -405,7 +621,7 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     }
     SelfCollisionStats& stats = outStats;
     const Span<const Vec3> x1View(x1.data(), x1.size());
-    applyProximity(x0, x1, stats);
+    if (mSettings.proximityPass) applyProximity(x0, x1, stats);
 
     std::vector<Collision> collisions;
     findCollisions(x0, x1View, collisions, stats);

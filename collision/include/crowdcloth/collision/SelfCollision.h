@@ -6,6 +6,7 @@
 
 #include "crowdcloth/collision/Ccd.h"
 #include "crowdcloth/collision/TriangleBvh.h"
+#include "crowdcloth/core/Contact.h"
 #include "crowdcloth/core/Math.h"
 #include "crowdcloth/core/ParallelFor.h"
 #include "crowdcloth/core/Span.h"
@@ -20,6 +21,9 @@ struct SelfCollisionSettings {
                                       ///< [0, 1]; 0 = only stop approaching pairs
     double ccdGap = 1.0e-4;           ///< [m] gap the continuous tests keep; a pair that starts closer
                                       ///< keeps a quarter of its start gap; (0, thickness]
+    bool proximityPass = true;        ///< repulsion of pairs closer than `thickness` at x0 before the
+                                      ///< continuous tests; off when the solve kept pairs apart by
+                                      ///< separatingPlanes(), which repel the same pairs inside it
     int impulseIterations = 8;        ///< [-] continuous test + inelastic impulse passes before the
                                       ///< impact zones take over; >= 1
     int zoneIterations = 32;          ///< [-] impact-zone passes before the last resort (stopping the
@@ -35,6 +39,8 @@ struct SelfCollisionStats {
     uint32_t proximityPairs = 0;       ///< vertex-triangle + edge-edge pairs closer than thickness at x0
     uint32_t repulsions = 0;           ///< of those, pairs that got a repulsion or inelastic impulse
     uint32_t ccdTests = 0;             ///< continuous tests run, all passes
+    uint32_t broadPhases = 0;          ///< broad-phase searches for them; the other passes filtered
+                                       ///< the pairs separatingPlanes() kept for the step
     uint32_t firstPassCollisions = 0;  ///< collisions found by the first continuous pass
     uint32_t impulseIterations = 0;    ///< continuous passes with impulses
     uint32_t zoneIterations = 0;       ///< impact-zone passes
@@ -45,6 +51,24 @@ struct SelfCollisionStats {
     uint32_t unresolved = 0;           ///< collisions left: only pinned vertices move in them
     uint32_t cappedTests = 0;          ///< continuous tests that hit their box budget (conservative)
     uint64_t ccdBoxes = 0;             ///< search boxes over all continuous tests (their cost)
+};
+
+/// Where separatingPlanes() puts the planes a solve keeps pairs apart by.
+struct SeparatingPlaneSettings {
+    double thickness = 3.0e-3;        ///< [m] pairs may approach to this distance; > 0
+    double repulsionFraction = 0.25;  ///< [-] share of the overlap below `thickness` a pair closer than
+                                      ///< it at the start is moved apart by over the step; [0, 1]
+    double lookahead = 2.0;           ///< [-] a pair gets planes when it can come within `thickness`
+                                      ///< moving `lookahead` times its velocity over the step; >= 0
+    double maxReach = 0.1;            ///< [m] most a vertex's motion counts towards that; > 0
+    double acceleration = 9.81;       ///< [m/s^2] how hard a pair may close from rest over the look-ahead
+                                      ///< (gravity, for a layer falling onto one the body holds); >= 0
+    double solverOffset = 0.0;        ///< [m] the solver puts a contact's plane this far outside its
+                                      ///< point (SubstepSettings::contactThickness); the points are
+                                      ///< placed so that the plane lands where it must; >= 0
+
+    /// Names the first invalid field.
+    Status validate() const;
 };
 
 /// Self-collision of one garment over one step (Bridson, Fedkiw & Anderson 2002, "Robust treatment
@@ -75,6 +99,23 @@ public:
     /// sizes that do not match or a non-finite position (the message names the vertex).
     Status resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const double> masses, SelfCollisionStats& outStats);
 
+    /// Self-contacts as constraints of the solve: for every vertex-triangle and edge-edge pair that
+    /// can come within the thickness over the step (from x0, moving at `velocities` [m/s] for
+    /// `lookahead` x dt [s]), the plane through the midpoint of its closest points at x0, normal to
+    /// the line between them, offset by half the kept distance to each side; every vertex of each
+    /// side gets its side's plane as a Contact (point on the plane less `solverOffset`, the plane
+    /// moving at the pair's mean velocity, which is its surfaceVelocity, so a pair falling together
+    /// is not held). The closest points of two disjoint convex primitives span a separating plane
+    /// of them, so a vertex is never pushed by a plane it does not reach, and while every vertex
+    /// keeps to its planes the pair cannot cross (its distance along the normal stays linear in time
+    /// between the solver's substeps). In a crease this keeps the solve itself from folding the cloth
+    /// through itself, and neighbours answer a contact inside the solve instead of resolve()'s
+    /// impulses after it, which a stiff crumpled region stores as strain (the blow-up a sheet folding
+    /// onto itself showed). Appends to outPlanes, sorted by vertex; allocates only while its scratch
+    /// grows. Fails, appending nothing, on mismatched sizes or a non-finite input (naming the vertex).
+    Status separatingPlanes(Span<const Vec3> x0, Span<const Vec3> velocities, double dt,
+                            const SeparatingPlaneSettings& settings, std::vector<Contact>& outPlanes);
+
     const SelfCollisionSettings& settings() const { return mSettings; }
     uint32_t vertexCount() const { return mVertexCount; }
     Span<const std::array<uint32_t, 3>> triangles() const { return mTriangles; }
@@ -92,6 +133,16 @@ private:
         std::array<double, 4> weights;     ///< signed: separation = sum weights[i] * x[vertices[i]]
         Vec3 normal;
     };
+    /// candidates() of any per-vertex boxes: pairs whose primitives' hulls of them, grown by
+    /// `margin`, overlap.
+    void candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
+                           std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                           std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// candidates(x0, x1, margin) from the pairs separatingPlanes() found for the same x0, when every
+    /// x1 lies in its vertex's cached box (then they are the same lists); false when it cannot.
+    bool cachedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                          std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                          std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     void applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfCollisionStats& stats);
     void findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
                         SelfCollisionStats& stats);
@@ -104,11 +155,24 @@ private:
     std::vector<std::array<uint32_t, 3>> mTriangles;
     std::vector<std::array<uint32_t, 2>> mEdges;          ///< sorted, a < b
     std::vector<std::array<uint32_t, 3>> mTriangleEdges;  ///< edge indices of each triangle
+    std::vector<uint32_t> mEdgeTriangle;                 ///< the first triangle (by index) of each edge
     TriangleBvh mBvh;
     bool mBvhBuilt = false;
     // Per-step scratch.
     std::vector<double> mInvMass;
-    std::vector<Aabb> mBoxes;
+    std::vector<Aabb> mBoxes, mEdgeBoxes;
+    std::vector<uint32_t> mHits;
+    std::vector<Vec3> mReachEnd;                              ///< separatingPlanes: x0 + lookahead motion
+    std::vector<std::array<uint32_t, 2>> mPairsVf, mPairsEe;  ///< findCollisions' candidates
+    std::vector<Aabb> mVertexBoxes;
+    // The update's broad phase, kept by separatingPlanes() for resolve() (cachedCandidates).
+    std::vector<Aabb> mCacheBoxes;                            ///< per vertex: where it may end
+    std::vector<std::array<uint32_t, 2>> mCacheVf, mCacheEe;  ///< pairs of those boxes, grown by mCacheMargin
+    std::vector<Vec3> mCacheStart;                            ///< the x0 they are for
+    double mCacheMargin = 0.0;
+    bool mCacheValid = false;
+    std::vector<Contact> mPlanes;       ///< separatingPlanes: kPlanesPerVertex slots per vertex
+    std::vector<uint8_t> mPlaneCount;   ///< slots in use per vertex
     std::vector<uint32_t> mZoneParent;  ///< union-find over vertices, root = smallest index
     std::vector<uint8_t> mInZone;
 };
