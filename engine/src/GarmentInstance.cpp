@@ -195,8 +195,54 @@ Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateRepor
         const collision::Collider* colliders[1] = {context.collider};
         if (Status s = mContactStage.gather(colliders, mStepStart, mStepStart, settings, mContacts); !s) return s;
     }
+    // Self-contacts as planes of the same solve (separating planes of each pair that can close
+    // within the update): the solve keeps its layers apart with their neighbours answering, and
+    // finish()'s continuous resolve is left the rare pair the planes missed.
+    if (context.selfCollision) {
+        if (Status s = prepareSelfCollision(); !s) return s;
+        collision::SeparatingPlaneSettings planes;
+        planes.thickness = mSelf.settings().thickness;
+        planes.repulsionFraction = mSelf.settings().repulsionFraction;
+        planes.lookahead = std::max(context.contactLookahead, 1.0);
+        planes.acceleration = context.acceleration.norm();
+        planes.solverOffset = mAsset->desc.thickness;  // the batch's contactThickness
+        if (Status s = mSelf.separatingPlanes(mStepStart, mVelocities, context.dt, planes, mContacts); !s) return s;
+    }
     outReport.contacts = uint32_t(mContacts.size());
     outReport.collisionMs = msSince(start);
+    return Status::ok();
+}
+
+Status GarmentInstance::resolveSelfCollision(GarmentUpdateReport& inOutReport, uint32_t* outMoved) {
+    mSwapPositions = mPositions;  // the level switch's scratch, free here
+    collision::SelfCollisionStats selfStats;
+    if (Status s = mSelf.resolve(mStepStart, mPositions, mSelfMasses, selfStats); !s) return s;
+    inOutReport.failSafes += selfStats.failSafeActivations;
+    if (outMoved) mMoved.assign(mPositions.size(), 0);
+    for (std::size_t v = 0; v < mPositions.size(); ++v) {
+        if (mPositions[v] == mSwapPositions[v]) continue;
+        mVelocities[v] += (mPositions[v] - mSwapPositions[v]) / context.dt;
+        if (outMoved) {
+            mMoved[v] = 1;
+            ++*outMoved;
+        }
+    }
+    return Status::ok();
+}
+
+Status GarmentInstance::prepareSelfCollision() {
+    if (mSelfLevel == mLevel) return Status::ok();
+    const CookedLevel& level = mAsset->levels[mLevel];
+    collision::SelfCollisionSettings settings;
+    settings.thickness = 0.5 * mAsset->desc.thickness;
+    settings.ccdGap = std::min(settings.ccdGap, settings.thickness);
+    settings.proximityPass = false;  // the solve's separating planes keep pairs apart
+    settings.parallel.maxThreads = 1;
+    auto made = collision::SelfCollision::create(level.active.mesh.triangles, uint32_t(level.active.mesh.vertexCount()),
+                                                 settings);
+    if (!made.isOk()) return made.status();
+    mSelf = std::move(made).value();
+    mSelfLevel = mLevel;
     return Status::ok();
 }
 
@@ -217,27 +263,6 @@ cloth::SubstepLane GarmentInstance::lane() {
 Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport) {
     const auto start = Clock::now();
     const CookedLevel& level = mAsset->levels[mLevel];
-    // Self-collision first: its impulses know nothing of the body, so the body's corrections have
-    // the last word and no vertex ends inside the body.
-    if (context.selfCollision) {
-        if (mSelfLevel != mLevel) {
-            collision::SelfCollisionSettings selfSettings;
-            selfSettings.thickness = 0.5 * mAsset->desc.thickness;
-            selfSettings.ccdGap = std::min(selfSettings.ccdGap, selfSettings.thickness);
-            selfSettings.parallel.maxThreads = 1;
-            auto made = collision::SelfCollision::create(level.active.mesh.triangles,
-                                                         uint32_t(level.active.mesh.vertexCount()), selfSettings);
-            if (!made.isOk()) return made.status();
-            mSelf = std::move(made).value();
-            mSelfLevel = mLevel;
-        }
-        mSelfMasses = level.active.masses;
-        for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
-        collision::SelfCollisionStats selfStats;
-        if (Status s = mSelf.resolve(mStepStart, mPositions, mSelfMasses, selfStats); !s) return s;
-        for (std::size_t v = 0; v < mPositions.size(); ++v) mVelocities[v] = (mPositions[v] - mStepStart[v]) / context.dt;
-        inOutReport.failSafes = selfStats.failSafeActivations;
-    }
     // Against capsules (a garment small on screen) the update's contact planes are the whole
     // response; the corrections after the solve are for garments seen close, against the mesh.
     if (context.collider && !context.proxies) {
@@ -288,8 +313,26 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
             if (Status s = cloth::resolveContacts(mContacts, surface, *level.cloth, mPositions, mVelocities); !s)
                 return s;
         }
-        weldCopies(level.active, mPositions, mVelocities);
     }
+    // Self-collision's fail-safe last, over the whole update's motion (the solve and the body's
+    // pushes): a push out of the body that drove one layer through another is caught here. Its
+    // corrections are impulses (a moved vertex's velocity changes by its correction over the step);
+    // the strain limit then brings the neighbours of what it moved along, and a second resolve
+    // checks the limit's own moves, so the update ends free of crossings.
+    if (context.selfCollision) {
+        if (Status s = prepareSelfCollision(); !s) return s;
+        mSelfMasses = level.active.masses;
+        for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
+        uint32_t moved = 0;
+        if (Status s = resolveSelfCollision(inOutReport, &moved); !s) return s;
+        if (moved > 0 && strainSettings.strainLimit > 0.0) {
+            cloth::SubstepSettings limit = strainSettings;
+            limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
+            if (Status s = cloth::limitStrain(*level.cloth, context.dt, limit, lane(), mMoved, mLimitWork); !s) return s;
+            if (Status s = resolveSelfCollision(inOutReport, nullptr); !s) return s;
+        }
+    }
+    if ((context.collider && !context.proxies) || context.selfCollision) weldCopies(level.active, mPositions, mVelocities);
     inOutReport.collisionMs += msSince(start);
     const auto& masses = level.active.masses;
     double mass = 0.0, energy = 0.0;

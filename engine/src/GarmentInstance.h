@@ -42,7 +42,7 @@ struct GarmentUpdateContext {
 
 /// What the last update did besides the solve.
 struct GarmentUpdateReport {
-    uint32_t contacts = 0;
+    uint32_t contacts = 0;         ///< contact planes of the solve, the body's and self-contacts'
     uint32_t failSafes = 0;
     uint32_t bodyCorrections = 0;  ///< vertices the body pushed out after the solve
     double collisionMs = 0.0;  ///< [ms] contacts and self-collision
@@ -130,6 +130,11 @@ public:
 private:
     GarmentInstance() = default;
     Status bindAttachments(const CharacterInstance& character);
+    /// Makes mSelf for the current level if it is for another.
+    Status prepareSelfCollision();
+    /// mSelf's resolve from the step's start to the positions now, its corrections as impulses;
+    /// with outMoved, flags the vertices it moved in mMoved and counts them.
+    Status resolveSelfCollision(GarmentUpdateReport& inOutReport, uint32_t* outMoved);
     void localRenderPositions(std::vector<Vec3>& out) const;
     void refreshLocalRender();
     collision::BodyContactSettings contactSettings() const;

@@ -358,11 +358,14 @@ Status WorldImpl::scheduleFrame(double dt) {
     for (std::size_t i = 0; i < mItems.size(); ++i) {
         lod::GarmentSchedule& s = mSchedules[i];
         if (const int forced = mItems[i].garment->forcedLevel(); forced >= 0) {
-            const lod::LevelProfile& level = mProfiles[mRequests[i].profile].levels[forced];
+            const auto& levels = mProfiles[mRequests[i].profile].levels;
             s.level = forced;
             s.updateInterval = 1;
-            s.substeps = level.substeps;
-            s.iterations = level.iterations;
+            s.substeps = levels[forced].substeps;
+            s.iterations = levels[forced].iterations;
+            // Self-collision by the forced level, not the one the scheduler would have chosen.
+            s.selfCollision = lod::wantsSelfCollision(s, forced, int(levels.size()), mRequests[i].previous.selfCollision,
+                                                      settings);
         }
         mItems[i].garment->schedule = s;
     }

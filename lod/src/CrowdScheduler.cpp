@@ -246,6 +246,12 @@ struct MoveQueue {
 
 } // namespace
 
+bool wantsSelfCollision(const GarmentSchedule& schedule, int level, int levelCount, bool wasOn,
+                        const SchedulerSettings& settings) {
+    return schedule.visible && level >= levelCount - 2 &&
+           atLeast(schedule.screenRadiusPx, settings.selfCollisionRadiusPx, wasOn, settings.hysteresis);
+}
+
 struct SchedulerWorkspace::Buffers {
     std::vector<uint64_t> ids;
     std::vector<std::size_t> byId;
@@ -336,8 +342,7 @@ GarmentSchedule finalSchedule(const GarmentView& g, const SchedulerSettings& s) 
     out.predictedCostMs = g.cost(g.choice);
     out.predictedErrorPx = g.errorPx(g.choice);
     out.collision = g.collision;
-    out.selfCollision = g.visible && g.choice.level >= g.levelCount() - 2 &&
-                        atLeast(out.screenRadiusPx, s.selfCollisionRadiusPx, prev.selfCollision, s.hysteresis);
+    out.selfCollision = wantsSelfCollision(out, g.choice.level, g.levelCount(), prev.selfCollision, s);
     return out;
 }
 

@@ -119,6 +119,12 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
                         Span<const GarmentProfile> profiles, Span<const GarmentRequest> requests,
                         Span<GarmentSchedule> outSchedules);
 
+/// The scheduler's self-collision rule: a garment seen at one of its finest two levels and at least
+/// selfCollisionRadiusPx large on screen (with the settings' hysteresis against `wasOn`, last
+/// frame's answer). Exposed for a host's forced level, which replaces the scheduler's.
+bool wantsSelfCollision(const GarmentSchedule& schedule, int level, int levelCount, bool wasOn,
+                        const SchedulerSettings& settings);
+
 /// Scratch of scheduleGarments kept between frames, so that a frame's schedule allocates nothing
 /// once the crowd's size is steady. Holds no decision: results never depend on it.
 class SchedulerWorkspace {
