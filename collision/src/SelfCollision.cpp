@@ -98,13 +98,28 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
     }
     std::sort(halfEdges.begin(), halfEdges.end());
     self.mTriangleEdges.assign(triangles.size(), {0, 0, 0});
+    self.mOwnsVertex.assign(triangles.size(), 0);
+    self.mOwnsEdge.assign(triangles.size(), 0);
     for (const auto& h : halfEdges) {
         if (self.mEdges.empty() || self.mEdges.back()[0] != h[0] || self.mEdges.back()[1] != h[1]) {
             self.mEdges.push_back({h[0], h[1]});
         }
         self.mTriangleEdges[h[2] / 3][h[2] % 3] = static_cast<uint32_t>(self.mEdges.size() - 1);
-        if (self.mEdgeTriangle.size() < self.mEdges.size()) self.mEdgeTriangle.push_back(h[2] / 3);
+        if (self.mEdgeTriangle.size() < self.mEdges.size()) {
+            self.mEdgeTriangle.push_back(h[2] / 3);
+            self.mOwnsEdge[h[2] / 3] |= uint8_t(1u << (h[2] % 3));
+        }
     }
+    // Each vertex's owner: the first triangle that holds it.
+    std::vector<uint8_t> owned(vertexCount, 0);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+            if (!owned[triangles[t][k]]) {
+                owned[triangles[t][k]] = 1;
+                self.mOwnsVertex[t] |= uint8_t(1u << k);
+            }
+    for (uint32_t v = 0; v < vertexCount; ++v)
+        if (!owned[v]) self.mLoneVertices.push_back(v);
     return self;
 }
 
@@ -147,37 +162,67 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
         mBvh.build(mBoxes);
         mBvhBuilt = true;
     }
-    std::vector<uint32_t>& hits = mHits;
-    for (uint32_t v = 0; v < mVertexCount; ++v) {
-        hits.clear();
-        mBvh.query(vertexBoxes[v], hits);
-        for (uint32_t t : hits) {
-            const auto& tri = mTriangles[t];
-            if (tri[0] != v && tri[1] != v && tri[2] != v) outVertexTriangle.push_back({v, t});
-        }
-    }
     std::vector<Aabb>& edgeBoxes = mEdgeBoxes;
     edgeBoxes.resize(mEdges.size());
     for (std::size_t e = 0; e < mEdges.size(); ++e) edgeBoxes[e] = hull(mEdges[e]);
-    for (uint32_t e = 0; e < mEdges.size(); ++e) {
-        hits.clear();
-        mBvh.query(edgeBoxes[e], hits);
-        for (uint32_t t : hits) {
-            for (uint32_t f : mTriangleEdges[t]) {
-                if (f <= e) continue;
-                const auto& a = mEdges[e];
-                const auto& b = mEdges[f];
-                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
-                Aabb grown = edgeBoxes[f];
-                grown.inflate(margin);
-                if (grown.overlaps(edgeBoxes[e])) outEdgeEdge.push_back({e, f});
-            }
+    // Every vertex and edge is owned by one triangle holding it, whose box holds its box: a pair
+    // that overlaps is found through its owners' pair, once (adjacent primitives share a triangle
+    // or a vertex and are skipped). Vertices of no triangle ask the tree themselves.
+    auto vertexTriangle = [&](uint32_t v, uint32_t t) {
+        const auto& tri = mTriangles[t];
+        if (tri[0] == v || tri[1] == v || tri[2] == v) return;
+        if (mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
+    };
+    auto edgeEdge = [&](uint32_t e, uint32_t f) {
+        const auto& a = mEdges[e];
+        const auto& b = mEdges[f];
+        if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
+        Aabb grown = edgeBoxes[f];
+        grown.inflate(margin);
+        if (grown.overlaps(edgeBoxes[e])) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
+    };
+    auto ownedBy = [&](uint32_t t, uint32_t u) {
+        for (int k = 0; k < 3; ++k) {
+            if (mOwnsVertex[t] & (1u << k)) vertexTriangle(mTriangles[t][k], u);
+            if (!(mOwnsEdge[t] & (1u << k))) continue;
+            for (int j = 0; j < 3; ++j)
+                if (mOwnsEdge[u] & (1u << j)) edgeEdge(mTriangleEdges[t][k], mTriangleEdges[u][j]);
         }
+    };
+    mTrianglePairs.clear();
+    mBvh.overlappingPairs(mTrianglePairs);
+    for (const auto& [t, u] : mTrianglePairs) {
+        ownedBy(t, u);
+        for (int k = 0; k < 3; ++k)
+            if (mOwnsVertex[u] & (1u << k)) vertexTriangle(mTriangles[u][k], t);
     }
-    // Sorted and unique: an edge pair is found through every triangle that holds the second edge.
-    std::sort(outVertexTriangle.begin(), outVertexTriangle.end());
-    std::sort(outEdgeEdge.begin(), outEdgeEdge.end());
-    outEdgeEdge.erase(std::unique(outEdgeEdge.begin(), outEdgeEdge.end()), outEdgeEdge.end());
+    std::vector<uint32_t>& hits = mHits;
+    for (uint32_t v : mLoneVertices) {
+        hits.clear();
+        mBvh.query(vertexBoxes[v], hits);
+        for (uint32_t t : hits) vertexTriangle(v, t);
+    }
+    // Sorted (each pair is found once): results do not depend on the tree's order.
+    sortPairs(outVertexTriangle, mVertexCount);
+    sortPairs(outEdgeEdge, uint32_t(mEdges.size()));
+}
+
+void SelfCollision::sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount) {
+    // Bucketed by the first index (a counting sort), each bucket a handful of pairs sorted in
+    // place: a general sort of tens of thousands of pairs cost more than the search that found them.
+    mBucketStart.assign(std::size_t(firstCount) + 1, 0);
+    for (const auto& p : pairs) ++mBucketStart[p[0] + 1];
+    for (uint32_t i = 0; i < firstCount; ++i) mBucketStart[i + 1] += mBucketStart[i];
+    mSortedPairs.resize(pairs.size());
+    mBucketFill.assign(mBucketStart.begin(), mBucketStart.end() - 1);
+    for (const auto& p : pairs) mSortedPairs[mBucketFill[p[0]]++] = p;
+    for (uint32_t i = 0; i < firstCount; ++i) {
+        auto* begin = mSortedPairs.data() + mBucketStart[i];
+        auto* end = mSortedPairs.data() + mBucketStart[i + 1];
+        for (auto* a = begin + 1; a < end; ++a)  // insertion sort: buckets are short
+            for (auto* b = a; b > begin && (*b)[1] < (*(b - 1))[1]; --b) std::swap(*b, *(b - 1));
+    }
+    pairs.swap(mSortedPairs);
 }
 
 bool SelfCollision::cachedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,

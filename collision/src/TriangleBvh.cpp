@@ -95,4 +95,44 @@ void TriangleBvh::query(const Aabb& query, std::vector<uint32_t>& outHits) const
     }
 }
 
+void TriangleBvh::overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs) {
+    if (mNodes.empty()) return;
+    std::vector<std::array<uint32_t, 2>>& stack = mPairStack;
+    stack.clear();
+    stack.push_back({0, 0});
+    while (!stack.empty()) {
+        const auto [ia, ib] = stack.back();
+        stack.pop_back();
+        const Node& a = mNodes[ia];
+        const Node& b = mNodes[ib];
+        if (ia == ib) {
+            if (a.count > 0) {
+                for (uint32_t i = a.first; i < a.first + a.count; ++i)
+                    for (uint32_t j = i + 1; j < a.first + a.count; ++j)
+                        if (mBoxes[mOrder[i]].overlaps(mBoxes[mOrder[j]]))
+                            outPairs.push_back({std::min(mOrder[i], mOrder[j]), std::max(mOrder[i], mOrder[j])});
+            } else {
+                stack.push_back({a.first, a.first});
+                stack.push_back({a.first + 1, a.first + 1});
+                stack.push_back({a.first, a.first + 1});
+            }
+            continue;
+        }
+        if (!a.box.overlaps(b.box)) continue;
+        if (a.count > 0 && b.count > 0) {
+            for (uint32_t i = a.first; i < a.first + a.count; ++i)
+                for (uint32_t j = b.first; j < b.first + b.count; ++j)
+                    if (mBoxes[mOrder[i]].overlaps(mBoxes[mOrder[j]]))
+                        outPairs.push_back({std::min(mOrder[i], mOrder[j]), std::max(mOrder[i], mOrder[j])});
+        } else if (b.count > 0 || (a.count == 0 && ia < ib)) {
+            // Descend the inner node (the earlier one when both are inner: it is the larger).
+            stack.push_back({a.first, ib});
+            stack.push_back({a.first + 1, ib});
+        } else {
+            stack.push_back({ia, b.first});
+            stack.push_back({ia, b.first + 1});
+        }
+    }
+}
+
 } // namespace cc::collision

@@ -80,7 +80,7 @@ SelfRun walk(const ClothAssetDesc& asset, bool selfCollision, double seconds) {
         const int crossing = test::countIntersectingPairs(positions, triangles);
         run.worstIntersecting = std::max(run.worstIntersecting, crossing);
         run.framesIntersecting += crossing > 0;
-        if (frame < 30 || frame % 6 != 0) continue;
+        if (frame < 30 || frame % 12 != 0) continue;  // after half a second, five times a second
         const RenderMeshView posed = world->characterMesh(crowd.characters[0]).value();
         for (const Vec3& p : positions)
             if (test::windingNumber(posed, p) >= 0.5) run.deepest = std::max(run.deepest, test::distanceToSurface(posed, p));

@@ -138,6 +138,8 @@ private:
     void candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
                            std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// Sorts pairs whose first index is below firstCount, without allocating once warm.
+    void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount);
     /// candidates(x0, x1, margin) from the pairs separatingPlanes() found for the same x0, when every
     /// x1 lies in its vertex's cached box (then they are the same lists); false when it cannot.
     bool cachedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
@@ -156,6 +158,11 @@ private:
     std::vector<std::array<uint32_t, 2>> mEdges;          ///< sorted, a < b
     std::vector<std::array<uint32_t, 3>> mTriangleEdges;  ///< edge indices of each triangle
     std::vector<uint32_t> mEdgeTriangle;                 ///< the first triangle (by index) of each edge
+    std::vector<uint8_t> mOwnsVertex, mOwnsEdge;  ///< per triangle: which of its corners / edges it owns
+                                                  ///< (the first triangle holding each), for the broad phase
+    std::vector<uint32_t> mLoneVertices;          ///< vertices of no triangle
+    std::vector<std::array<uint32_t, 2>> mTrianglePairs, mSortedPairs;  ///< broad-phase scratch
+    std::vector<uint32_t> mBucketStart, mBucketFill;                    ///< sortPairs' scratch
     TriangleBvh mBvh;
     bool mBvhBuilt = false;
     // Per-step scratch.
