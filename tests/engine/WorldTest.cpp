@@ -76,6 +76,36 @@ TEST(World, SelfCollisionRunsForTheLargestGarmentWhenEnabled) {
     EXPECT_TRUE(ran) << "a garment filling the screen gets self-collision";
 }
 
+TEST(World, SelfCollisionFollowsAForcedLevelNotTheOneTheBudgetWouldGive) {
+    // A budget far too small for the finest level: the scheduler alone gives the garment a coarse
+    // level and no self-collision; forced to the finest, it is rated by the same rule at that level.
+    WorldDesc desc;
+    desc.selfCollision = true;
+    desc.frameBudgetMs = 0.01;
+    desc.spendSlack = false;
+    WorldPtr world = makeWorld(desc);
+    ClothAssetDesc capeDesc;
+    capeDesc.width = 0.6;
+    const auto crowd = test::addWalkingCrowd(*world, world->addClothAsset(capeDesc).value(), 1);
+    const GarmentId garment = crowd.garments[0];
+    auto stepClose = [&](int frame) {
+        test::walkCrowd(*world, crowd, frame / 60.0);
+        const Vec3 root = crowd.starts[0] + Vec3(0, 0, crowd.speed * frame / 60.0);
+        followWithCamera(*world, root + Vec3(0, 1.0, 0), Vec3(-0.6, 0.3, -1.2));
+        ASSERT_TRUE(world->step(1.0 / 60.0).isOk());
+    };
+    for (int frame = 1; frame <= 5; ++frame) stepClose(frame);
+    GarmentStats stats = world->garmentStats(garment).value();
+    ASSERT_LT(stats.level, int(capeDesc.levelCount) - 2) << "the budget must hold the garment coarse";
+    EXPECT_FALSE(stats.selfCollision);
+    ASSERT_TRUE(world->setGarmentLevel(garment, int32_t(capeDesc.levelCount) - 1).isOk());
+    for (int frame = 6; frame <= 8; ++frame) stepClose(frame);
+    stats = world->garmentStats(garment).value();
+    EXPECT_EQ(stats.level, int(capeDesc.levelCount) - 1);
+    EXPECT_TRUE(stats.selfCollision) << "large on screen at its finest level";
+    EXPECT_FALSE(stats.failed);
+}
+
 TEST(World, RenderTopologyNeverChanges) {
     WorldDesc desc;
     desc.spendSlack = false; // levels follow the pixel tolerance alone
