@@ -243,7 +243,15 @@ Status GarmentInstance::prepareSelfCollision() {
     if (!made.isOk()) return made.status();
     mSelf = std::move(made).value();
     mSelfLevel = mLevel;
+    mSelfMasses = level.active.masses;
+    for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
     return Status::ok();
+}
+
+Status GarmentInstance::limitAroundMoved(const cloth::SubstepSettings& strainSettings) {
+    cloth::SubstepSettings limit = strainSettings;
+    limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
+    return cloth::limitStrain(*mAsset->levels[mLevel].cloth, context.dt, limit, lane(), mMoved, mLimitWork);
 }
 
 cloth::SubstepLane GarmentInstance::lane() {
@@ -302,9 +310,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
         if (corrected > 0 && strainSettings.strainLimit > 0.0) {
             // The strain limit again, with the pushed vertices held where the body put them: their
             // neighbours follow instead of a lone vertex standing out of the cloth.
-            cloth::SubstepSettings limit = strainSettings;
-            limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
-            if (Status s = cloth::limitStrain(*level.cloth, context.dt, limit, lane(), mMoved, mLimitWork); !s) return s;
+            if (Status s = limitAroundMoved(strainSettings); !s) return s;
             // The body has the last word, but only against entering it: a vertex the limit pulled
             // inside goes back to the surface, not to the full thickness, so the cloth stretches
             // as little as the body forces (a limb driving the hem through a stride).
@@ -321,14 +327,10 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
     // checks the limit's own moves, so the update ends free of crossings.
     if (context.selfCollision) {
         if (Status s = prepareSelfCollision(); !s) return s;
-        mSelfMasses = level.active.masses;
-        for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
         uint32_t moved = 0;
         if (Status s = resolveSelfCollision(inOutReport, &moved); !s) return s;
         if (moved > 0 && strainSettings.strainLimit > 0.0) {
-            cloth::SubstepSettings limit = strainSettings;
-            limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
-            if (Status s = cloth::limitStrain(*level.cloth, context.dt, limit, lane(), mMoved, mLimitWork); !s) return s;
+            if (Status s = limitAroundMoved(strainSettings); !s) return s;
             if (Status s = resolveSelfCollision(inOutReport, nullptr); !s) return s;
         }
     }

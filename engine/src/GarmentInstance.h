@@ -130,7 +130,9 @@ public:
 private:
     GarmentInstance() = default;
     Status bindAttachments(const CharacterInstance& character);
-    /// Makes mSelf for the current level if it is for another.
+    /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses).
+    Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
+    /// Makes mSelf (and mSelfMasses) for the current level if it is for another.
     Status prepareSelfCollision();
     /// mSelf's resolve from the step's start to the positions now, its corrections as impulses;
     /// with outMoved, flags the vertices it moved in mMoved and counts them.
