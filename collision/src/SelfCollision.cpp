@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace cc::collision {
@@ -20,6 +21,9 @@ constexpr double kFaceCone = 0.5;
 /// and how many directions a vertex keeps.
 constexpr double kMergeCone = 0.98;
 constexpr int kPlanesPerVertex = 4;
+// A cache serves while at most this share of the vertices left their cached boxes (their pairs are
+// searched one by one); more, and one search of all is cheaper.
+constexpr uint32_t kMaxEscapedShare = 4;  // 1 / 4
 
 std::string vertexName(std::size_t v) { return "vertex " + std::to_string(v); }
 
@@ -136,13 +140,7 @@ void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double 
     candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
 }
 
-void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
-                                      std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
-                                      std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
-    outVertexTriangle.clear();
-    outEdgeEdge.clear();
-    // Triangle boxes (the hull of their vertices' boxes) grown by the margin; a vertex or edge box
-    // overlaps one whenever their L-infinity gap, hence their distance, can be below the margin.
+void SelfCollision::hullBoxes(Span<const Aabb> vertexBoxes, double margin) {
     auto hull = [&](const auto& vertices) {
         Aabb box;
         for (uint32_t v : vertices) {
@@ -156,15 +154,31 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
         mBoxes[t] = hull(mTriangles[t]);
         mBoxes[t].inflate(margin);
     }
+    mEdgeBoxes.resize(mEdges.size());
+    for (std::size_t e = 0; e < mEdges.size(); ++e) mEdgeBoxes[e] = hull(mEdges[e]);
+}
+
+bool SelfCollision::edgesOverlap(uint32_t e, uint32_t f, double margin) const {
+    Aabb grown = mEdgeBoxes[std::max(e, f)];
+    grown.inflate(margin);
+    return grown.overlaps(mEdgeBoxes[std::min(e, f)]);
+}
+
+void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
+                                      std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                      std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    ++mSearches;
+    outVertexTriangle.clear();
+    outEdgeEdge.clear();
+    // Triangle boxes (the hull of their vertices' boxes) grown by the margin; a vertex or edge box
+    // overlaps one whenever their L-infinity gap, hence their distance, can be below the margin.
+    hullBoxes(vertexBoxes, margin);
     if (mBvhBuilt) {
         mBvh.refit(mBoxes);
     } else {
         mBvh.build(mBoxes);
         mBvhBuilt = true;
     }
-    std::vector<Aabb>& edgeBoxes = mEdgeBoxes;
-    edgeBoxes.resize(mEdges.size());
-    for (std::size_t e = 0; e < mEdges.size(); ++e) edgeBoxes[e] = hull(mEdges[e]);
     // Every vertex and edge is owned by one triangle holding it, whose box holds its box: a pair
     // that overlaps is found through its owners' pair, once (adjacent primitives share a triangle
     // or a vertex and are skipped). Vertices of no triangle ask the tree themselves.
@@ -177,9 +191,7 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
         const auto& a = mEdges[e];
         const auto& b = mEdges[f];
         if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
-        Aabb grown = edgeBoxes[f];
-        grown.inflate(margin);
-        if (grown.overlaps(edgeBoxes[e])) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
+        if (edgesOverlap(e, f, margin)) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
     };
     auto ownedBy = [&](uint32_t t, uint32_t u) {
         for (int k = 0; k < 3; ++k) {
@@ -225,45 +237,107 @@ void SelfCollision::sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint3
     pairs.swap(mSortedPairs);
 }
 
-bool SelfCollision::cachedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
-                                     std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
-                                     std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
-    if (!mCacheValid || margin > mCacheMargin || x0.size() != mCacheStart.size() ||
-        !std::equal(x0.begin(), x0.end(), mCacheStart.begin()))
-        return false;
+bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vertexBoxes, double margin,
+                                   std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                   std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    if (!cache.valid || margin > cache.margin || cache.boxes.size() != mVertexCount) return false;
+    mEscaped.assign(mVertexCount, 0);
+    mEscapedVertices.clear();
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        const Aabb& kept = cache.boxes[v];
+        if ((vertexBoxes[v].lo.array() >= kept.lo.array()).all() && (vertexBoxes[v].hi.array() <= kept.hi.array()).all())
+            continue;
+        mEscaped[v] = 1;
+        mEscapedVertices.push_back(v);
+    }
+    if (mEscapedVertices.size() > mVertexCount / kMaxEscapedShare) return false;
+    hullBoxes(vertexBoxes, margin);
+    auto escapedTriangle = [&](uint32_t t) {
+        const auto& tri = mTriangles[t];
+        return mEscaped[tri[0]] || mEscaped[tri[1]] || mEscaped[tri[2]];
+    };
+    auto escapedEdge = [&](uint32_t e) { return mEscaped[mEdges[e][0]] || mEscaped[mEdges[e][1]]; };
+    outVertexTriangle.clear();
+    outEdgeEdge.clear();
+    // Pairs whose vertices all stayed in their cached boxes: every one that overlaps now overlapped
+    // there (a larger or equal margin), so it is in the cache; the same test as candidatesOfBoxes.
+    for (const auto& pair : cache.vf)
+        if (!mEscaped[pair[0]] && !escapedTriangle(pair[1]) && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
+            outVertexTriangle.push_back(pair);
+    for (const auto& pair : cache.ee)
+        if (!escapedEdge(pair[0]) && !escapedEdge(pair[1]) && edgesOverlap(pair[0], pair[1], margin))
+            outEdgeEdge.push_back(pair);
+    if (mEscapedVertices.empty()) return true;  // sorted, as the cache's lists are
+
+    // Pairs with an escaped vertex, searched in the tree refit to the current boxes. Each vertex or
+    // edge box lies in its owning triangle's grown box, so a query finds its owner.
+    if (mBvhBuilt) {
+        mBvh.refit(mBoxes);
+    } else {
+        mBvh.build(mBoxes);
+        mBvhBuilt = true;
+    }
+    auto inTriangle = [&](uint32_t v, uint32_t t) {
+        const auto& tri = mTriangles[t];
+        return tri[0] == v || tri[1] == v || tri[2] == v;
+    };
+    std::vector<uint32_t>& hits = mHits;
+    for (uint32_t v : mEscapedVertices) {  // an escaped vertex against every triangle
+        hits.clear();
+        mBvh.query(vertexBoxes[v], hits);
+        for (uint32_t t : hits)
+            if (!inTriangle(v, t)) outVertexTriangle.push_back({v, t});
+    }
+    for (uint32_t t = 0; t < mTriangles.size(); ++t) {  // a triangle with one against the other vertices
+        if (!escapedTriangle(t)) continue;
+        auto vertexAgainst = [&](uint32_t w) {
+            if (!mEscaped[w] && !inTriangle(w, t) && mBoxes[t].overlaps(vertexBoxes[w]))
+                outVertexTriangle.push_back({w, t});
+        };
+        hits.clear();
+        mBvh.query(mBoxes[t], hits);
+        for (uint32_t u : hits)
+            for (int k = 0; k < 3; ++k)
+                if (mOwnsVertex[u] & (1u << k)) vertexAgainst(mTriangles[u][k]);
+        for (uint32_t w : mLoneVertices) vertexAgainst(w);
+    }
+    for (uint32_t e = 0; e < mEdges.size(); ++e) {  // an edge with one against every edge
+        if (!escapedEdge(e)) continue;
+        const auto& a = mEdges[e];
+        Aabb reach = mEdgeBoxes[e];
+        reach.inflate(margin);
+        hits.clear();
+        mBvh.query(reach, hits);
+        for (uint32_t u : hits)
+            for (int k = 0; k < 3; ++k) {
+                if (!(mOwnsEdge[u] & (1u << k))) continue;
+                const uint32_t f = mTriangleEdges[u][k];
+                if (escapedEdge(f) && f < e) continue;  // that pair is found from f
+                const auto& b = mEdges[f];
+                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+                if (edgesOverlap(e, f, margin)) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
+            }
+    }
+    sortPairs(outVertexTriangle, mVertexCount);
+    sortPairs(outEdgeEdge, uint32_t(mEdges.size()));
+    return true;
+}
+
+void SelfCollision::sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                                    std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                    std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats) {
     mVertexBoxes.resize(mVertexCount);
     for (uint32_t v = 0; v < mVertexCount; ++v) {
-        const Aabb& cached = mCacheBoxes[v];
-        if (!(x1[v].array() >= cached.lo.array()).all() || !(x1[v].array() <= cached.hi.array()).all()) return false;
         Aabb box;
         box.grow(x0[v]);
         box.grow(x1[v]);
         mVertexBoxes[v] = box;
     }
-    // Every vertex stayed in its cached box, so the cached pairs hold every pair the broad phase
-    // would find now: filtering them by the same box tests gives the same sorted lists.
-    auto hull = [&](const auto& vertices) {
-        Aabb box;
-        for (uint32_t v : vertices) {
-            box.grow(mVertexBoxes[v].lo);
-            box.grow(mVertexBoxes[v].hi);
-        }
-        box.inflate(margin);
-        return box;
-    };
-    outVertexTriangle.clear();
-    outEdgeEdge.clear();
-    for (const auto& pair : mCacheVf)
-        if (hull(mTriangles[pair[1]]).overlaps(mVertexBoxes[pair[0]])) outVertexTriangle.push_back(pair);
-    for (const auto& pair : mCacheEe) {
-        Aabb first;
-        for (uint32_t v : mEdges[pair[0]]) {
-            first.grow(mVertexBoxes[v].lo);
-            first.grow(mVertexBoxes[v].hi);
-        }
-        if (hull(mEdges[pair[1]]).overlaps(first)) outEdgeEdge.push_back(pair);
-    }
-    return true;
+    const bool sameStart =
+        mUpdate.valid && x0.size() == mUpdateStart.size() && std::equal(x0.begin(), x0.end(), mUpdateStart.begin());
+    if (sameStart && pairsFromCache(mUpdate, mVertexBoxes, margin, outVertexTriangle, outEdgeEdge)) return;
+    candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
+    ++stats.broadPhases;
 }
 
 namespace {
@@ -323,21 +397,20 @@ Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> vel
     // A layer held by the body under one that falls onto it closes at the acceleration the other
     // feels, which a velocity does not show yet.
     const double accelerationReach = 0.5 * settings.acceleration * (settings.lookahead * dt) * (settings.lookahead * dt);
-    // One broad phase for the update: each vertex's box reaches as far as its look-ahead and the
-    // acceleration could carry it, and resolve() after the solve filters these pairs instead of
-    // searching again while every vertex ends inside its box (cachedCandidates).
-    mCacheBoxes.resize(mVertexCount);
+    // The update's broad phase: each vertex's box reaches as far as its look-ahead and the
+    // acceleration could carry it; resolve() filters these pairs after the solve (sweptCandidates).
+    mUpdate.boxes.resize(mVertexCount);
     for (uint32_t v = 0; v < mVertexCount; ++v) {
         Aabb box;
         box.grow(x0[v]);
         box.grow(mReachEnd[v]);
         box.inflate(accelerationReach);
-        mCacheBoxes[v] = box;
+        mUpdate.boxes[v] = box;
     }
-    candidatesOfBoxes(mCacheBoxes, h, mCacheVf, mCacheEe);
-    mCacheStart.assign(x0.begin(), x0.end());
-    mCacheMargin = h;
-    mCacheValid = true;
+    candidatesOfBoxes(mUpdate.boxes, h, mUpdate.vf, mUpdate.ee);
+    mUpdate.margin = h;
+    mUpdate.valid = true;
+    mUpdateStart.assign(x0.begin(), x0.end());
 
     // Layers at rest give a vertex a plane from every primitive of the other layer within reach,
     // all facing nearly the same way: planes within kMergeCone of one another are one plane, the
@@ -400,12 +473,12 @@ Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> vel
             keepPlane(c);
         }
     };
-    for (const auto& pair : mCacheVf) {
+    for (const auto& pair : mUpdate.vf) {
         const auto& tri = mTriangles[pair[1]];
         const std::array<double, 3> w = closestTriangleWeights(x0[pair[0]], x0[tri[0]], x0[tri[1]], x0[tri[2]]);
         addPair(vertexTrianglePair(pair[0], tri, w), 1, unitNormal(x0, tri));
     }
-    for (const auto& pair : mCacheEe) {
+    for (const auto& pair : mUpdate.ee) {
         const auto& a = mEdges[pair[0]];
         const auto& b = mEdges[pair[1]];
         const std::array<double, 2> su = closestSegmentParameters(x0[a[0]], x0[a[1]], x0[b[0]], x0[b[1]]);
@@ -438,7 +511,8 @@ void SelfCollision::applyImpulse(const Collision& c, Span<const Vec3> x0, Span<V
 }
 
 void SelfCollision::applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfCollisionStats& stats) {
-    std::vector<std::array<uint32_t, 2>> vf, ee;
+    std::vector<std::array<uint32_t, 2>>& vf = mPairsVf;
+    std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
     const double h = mSettings.thickness;
     candidates(x0, x0, h, vf, ee);
     // Repulsion from the start-of-step geometry, whose side of each pair is trusted: the pair's
@@ -478,14 +552,14 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
                                    SelfCollisionStats& stats) {
     std::vector<std::array<uint32_t, 2>>& vf = mPairsVf;
     std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
-    if (!cachedCandidates(x0, x1, mSettings.ccdGap, vf, ee)) {
-        candidates(x0, x1, mSettings.ccdGap, vf, ee);
-        ++stats.broadPhases;
-    }
+    sweptCandidates(x0, x1, mSettings.ccdGap, vf, ee, stats);
     const std::size_t total = vf.size() + ee.size();
-    std::vector<Collision> found(total);
-    std::vector<uint8_t> status(total, 0);  // 0 none, 1 contact, 2 contact with capped search
-    std::vector<uint32_t> boxes(total, 0);
+    std::vector<Collision>& found = mFound;
+    std::vector<uint8_t>& status = mStatus;  // 0 none, 1 contact, 2 contact with capped search
+    std::vector<uint32_t>& boxes = mBoxCounts;
+    found.resize(total);
+    status.assign(total, 0);
+    boxes.assign(total, 0);
     parallelFor(static_cast<int64_t>(total), mSettings.parallel, [&](int64_t begin, int64_t end) {
         for (int64_t k = begin; k < end; ++k) {
             const bool isVf = static_cast<std::size_t>(k) < vf.size();
@@ -506,15 +580,17 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
                 start[i] = x0[ids[i]];
                 finish[i] = x1[ids[i]];
             }
-            auto distance = [isVf](const std::array<Vec3, 4>& x) {
+            // From the closest point of the triangle (edge cd) to the vertex (edge ab).
+            auto separationOf = [isVf](const std::array<Vec3, 4>& x) -> Vec3 {
                 if (isVf) {
                     const auto w = closestTriangleWeights(x[0], x[1], x[2], x[3]);
-                    return (x[0] - w[0] * x[1] - w[1] * x[2] - w[2] * x[3]).norm();
+                    return x[0] - w[0] * x[1] - w[1] * x[2] - w[2] * x[3];
                 }
                 const auto su = closestSegmentParameters(x[0], x[1], x[2], x[3]);
-                return (x[0] + su[0] * (x[1] - x[0]) - x[2] - su[1] * (x[3] - x[2])).norm();
+                return x[0] + su[0] * (x[1] - x[0]) - x[2] - su[1] * (x[3] - x[2]);
             };
-            const double gap0 = distance(start);
+            const Vec3 d0 = separationOf(start);
+            const double gap0 = d0.norm();
             if (gap0 <= kTouching) continue;
             // Keep at least a quarter of the start gap: then a rigid motion of the pair (an impact
             // zone) is never reported, since the L-infinity test sees at least gap0 / sqrt(3), and
@@ -522,18 +598,39 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
             CcdSettings ccd;
             ccd.thickness = std::min(mSettings.ccdGap, 0.25 * gap0);
             ccd.timeTolerance = 1e-5;  // toi only places the normal and weights of the impulse
-            // Cheap proof of separation first: the closest points' relative motion is a convex
+            // Cheap proofs of separation first. (1) The closest points' relative motion is a convex
             // combination of the vertices' relative motions across the pair, so the distance changes
             // at most by `reach`, the largest of those, over the step and stays above
             // (gap0 + gap1 - reach) / 2. Most candidates of a garment at rest in layers end here, and
             // so do neighbours in a sheet that falls or swings as one (relative, not absolute motion).
             const int sideA = isVf ? 1 : 2;
+            const double kept = 1.01 * ccd.thickness;
             double reach = 0.0;
             for (int i = 0; i < sideA; ++i)
                 for (int j = sideA; j < 4; ++j)
                     reach = std::max(reach, ((finish[i] - start[i]) - (finish[j] - start[j])).norm());
-            const double gap1 = distance(finish);
-            if (0.5 * (gap0 + gap1 - reach) > 1.01 * ccd.thickness) continue;
+            const Vec3 d1 = separationOf(finish);
+            const double gap1 = d1.norm();
+            if (0.5 * (gap0 + gap1 - reach) > kept) continue;
+            // (2) A fixed axis along which every vertex of one side stays ahead of every vertex of
+            // the other by `kept` at both ends of the step: each such difference is linear in time,
+            // so it holds throughout, and so does the distance of any two points of the primitives.
+            // Pairs the solve held apart by their separating plane (in contact, moving fast against
+            // each other: the first proof fails on them) end here.
+            auto apartAlong = [&](const Vec3& axis) {
+                for (const std::array<Vec3, 4>* x : {&start, &finish}) {
+                    double lowA = std::numeric_limits<double>::infinity();
+                    double highB = -lowA;
+                    for (int i = 0; i < 4; ++i) {
+                        const double along = axis.dot((*x)[i]);
+                        if (i < sideA) lowA = std::min(lowA, along);
+                        else highB = std::max(highB, along);
+                    }
+                    if (lowA - highB <= kept) return false;
+                }
+                return true;
+            };
+            if (apartAlong(d0 / gap0) || (gap1 > kTouching && apartAlong(d1 / gap1))) continue;
             ccd.distanceTolerance = 0.1 * ccd.thickness;
             CcdHit hit;
             const CcdOutcome outcome =
@@ -579,7 +676,8 @@ void SelfCollision::rigidifyZones(Span<const Vec3> x0, Span<Vec3> x1, const std:
         }
     }
     // Members grouped by root, in vertex order: the zones and their sums do not depend on threads.
-    std::vector<std::array<uint32_t, 2>> members;  // (root, vertex)
+    std::vector<std::array<uint32_t, 2>>& members = mZoneMembers;  // (root, vertex)
+    members.clear();
     for (uint32_t v = 0; v < mVertexCount; ++v) {
         if (mInZone[v]) members.push_back({find(v), v});
     }
@@ -668,7 +766,7 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     const Span<const Vec3> x1View(x1.data(), x1.size());
     if (mSettings.proximityPass) applyProximity(x0, x1, stats);
 
-    std::vector<Collision> collisions;
+    std::vector<Collision>& collisions = mCollisions;
     findCollisions(x0, x1View, collisions, stats);
     stats.firstPassCollisions = static_cast<uint32_t>(collisions.size());
     for (int iteration = 0; iteration < mSettings.impulseIterations && !collisions.empty(); ++iteration) {
@@ -689,7 +787,8 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
         findCollisions(x0, x1View, collisions, stats);
     }
     // Last resort: hold the vertices of what still collides at x0, which was free of intersections.
-    std::vector<uint8_t> stopped(mVertexCount, 0);
+    std::vector<uint8_t>& stopped = mStopped;
+    stopped.assign(mVertexCount, 0);
     while (!collisions.empty()) {
         bool progress = false;
         for (const Collision& c : collisions) {

@@ -239,6 +239,94 @@ TEST(SelfCollision, ParallelEdgesInsideThicknessArePushedApartAlongTheirNormalOn
     EXPECT_EQ(stats.repulsions, 0u);
 }
 
+TEST(SelfCollision, PairsSlidingAlongTheirSeparationNeedNoContinuousTest) {
+    // Two parallel triangles 5 mm apart (beyond the thickness) in a plane tilted 45 degrees, so
+    // their boxes overlap; the upper slides 30 cm along them over the step. Their relative motion is
+    // far larger than the gap (the first cheap proof fails), but along the normal every vertex of one
+    // stays 5 mm from every vertex of the other at both ends, which holds throughout the linear
+    // motion: no continuous test runs and nothing moves.
+    const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.25 * 3.141592653589793, Vec3::UnitX()).toRotationMatrix();
+    Triangles tris{{0, 1, 2}, {3, 4, 5}};
+    std::vector<Vec3> x0{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0),
+                         Vec3(0.1, 0.1, 0.005), Vec3(1.1, 0.1, 0.005), Vec3(0.1, 1.1, 0.005)};
+    std::vector<Vec3> x1 = x0;
+    for (int v = 3; v < 6; ++v) x1[v].x() += 0.3;
+    for (std::vector<Vec3>* x : {&x0, &x1})
+        for (Vec3& p : *x) p = tilt * p;
+    const std::vector<Vec3> expected = x1;
+    SelfCollision self = makeSelf(tris, 6);
+    SelfCollisionStats stats;
+    ASSERT_TRUE(self.resolve(x0, x1, std::vector<double>(6, 1.0), stats).isOk());
+    EXPECT_GT(stats.ccdTests, 0u);
+    EXPECT_EQ(stats.ccdBoxes, 0u);
+    EXPECT_EQ(stats.firstPassCollisions, 0u);
+    EXPECT_EQ(x1, expected);
+}
+
+/// Two n x n grids of 1/n m squares, the upper `gap` [m] above the lower, as one mesh.
+struct TwoLayers {
+    Triangles tris;
+    std::vector<Vec3> x0;
+    TwoLayers(int n, double gap) {
+        for (int layer = 0; layer < 2; ++layer) {
+            const uint32_t first = static_cast<uint32_t>(x0.size());
+            for (int j = 0; j <= n; ++j)
+                for (int i = 0; i <= n; ++i) x0.push_back(Vec3(double(i) / n, double(j) / n, layer * gap));
+            auto at = [&](int i, int j) { return first + uint32_t(j * (n + 1) + i); };
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    tris.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+                    tris.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+                }
+        }
+    }
+};
+
+TEST(SelfCollision, ResolveAfterTheSeparatingPlanesGivesTheResultOfItsOwnSearch) {
+    // resolve() filters the pairs separatingPlanes() found for the same x0 and searches only around
+    // the vertices that ended outside their look-ahead boxes: the result must be the one of a
+    // collider that searched everything itself, bit for bit, whether a few vertices or most left
+    // their boxes (then it searches everything too).
+    const TwoLayers s(12, 0.004);
+    const uint32_t n = static_cast<uint32_t>(s.x0.size());
+    const double dt = 1.0 / 60;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> speed(-0.1, 0.1);
+    for (const double leaving : {0.05, 0.6}) {
+        std::vector<Vec3> velocities(n), x1(n);
+        std::bernoulli_distribution leaves(leaving);
+        uint32_t left = 0;
+        for (uint32_t v = 0; v < n; ++v) {
+            velocities[v] = Vec3(speed(random), speed(random), speed(random));
+            x1[v] = s.x0[v] + dt * velocities[v];
+            if (!leaves(random)) continue;
+            x1[v].z() += v < n / 2 ? 0.01 : -0.01;  // through the other layer, out of its box
+            ++left;
+        }
+        SCOPED_TRACE(std::to_string(left) + " of " + std::to_string(n) + " vertices leave their boxes");
+        SelfCollision planned = makeSelf(s.tris, n);
+        SelfCollision alone = makeSelf(s.tris, n);
+        std::vector<Contact> planes;
+        ASSERT_TRUE(planned.separatingPlanes(s.x0, velocities, dt, {}, planes).isOk());
+        std::vector<Vec3> x1Planned = x1, x1Alone = x1;
+        const std::vector<double> masses(n, 1.0);
+        SelfCollisionStats withPlanes, withoutPlanes;
+        ASSERT_TRUE(planned.resolve(s.x0, x1Planned, masses, withPlanes).isOk());
+        ASSERT_TRUE(alone.resolve(s.x0, x1Alone, masses, withoutPlanes).isOk());
+        EXPECT_GT(withPlanes.firstPassCollisions, 0u);
+        EXPECT_EQ(x1Planned, x1Alone);
+        EXPECT_EQ(withPlanes.ccdTests, withoutPlanes.ccdTests);
+        EXPECT_EQ(withPlanes.firstPassCollisions, withoutPlanes.firstPassCollisions);
+        EXPECT_EQ(withPlanes.impulseIterations, withoutPlanes.impulseIterations);
+        EXPECT_GE(withoutPlanes.broadPhases, 1u);
+        if (leaving < 0.25) {
+            EXPECT_EQ(withPlanes.broadPhases, 0u);  // every pass served by the planes' pairs
+        } else {
+            EXPECT_GE(withPlanes.broadPhases, 1u);
+        }
+    }
+}
+
 TEST(SelfCollision, BadInputNamesTheProblem) {
     TwoTriangles s;
     SelfCollision self = makeSelf(s.tris, 6);

@@ -117,6 +117,9 @@ public:
                             const SeparatingPlaneSettings& settings, std::vector<Contact>& outPlanes);
 
     const SelfCollisionSettings& settings() const { return mSettings; }
+    /// Full broad-phase searches so far (separatingPlanes() and resolve() together); the other
+    /// calls filtered kept pairs. For tests and benchmarks of the reuse.
+    uint64_t broadPhaseSearches() const { return mSearches; }
     uint32_t vertexCount() const { return mVertexCount; }
     Span<const std::array<uint32_t, 3>> triangles() const { return mTriangles; }
     Span<const std::array<uint32_t, 2>> edges() const { return mEdges; }
@@ -133,18 +136,36 @@ private:
         std::array<double, 4> weights;     ///< signed: separation = sum weights[i] * x[vertices[i]]
         Vec3 normal;
     };
+    /// Broad-phase pairs kept for later calls: every non-adjacent pair whose per-vertex `boxes`
+    /// grown by `margin` overlap, sorted.
+    struct PairCache {
+        std::vector<Aabb> boxes;
+        std::vector<std::array<uint32_t, 2>> vf, ee;
+        double margin = 0.0;
+        bool valid = false;
+    };
     /// candidates() of any per-vertex boxes: pairs whose primitives' hulls of them, grown by
     /// `margin`, overlap.
     void candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
                            std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// The same lists as candidatesOfBoxes(vertexBoxes, margin) from a cache whose boxes hold most of
+    /// these: its pairs filtered, and a search for the pairs of the few vertices that left their
+    /// cached box. False, writing nothing, when the cache cannot serve.
+    bool pairsFromCache(const PairCache& cache, Span<const Aabb> vertexBoxes, double margin,
+                        std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                        std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// mBoxes (each triangle's hull of its vertices' boxes, grown by margin) and mEdgeBoxes.
+    void hullBoxes(Span<const Aabb> vertexBoxes, double margin);
+    /// The broad phase's box test of two edges, the same whichever is named first.
+    bool edgesOverlap(uint32_t e, uint32_t f, double margin) const;
     /// Sorts pairs whose first index is below firstCount, without allocating once warm.
     void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount);
-    /// candidates(x0, x1, margin) from the pairs separatingPlanes() found for the same x0, when every
-    /// x1 lies in its vertex's cached box (then they are the same lists); false when it cannot.
-    bool cachedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
-                          std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
-                          std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// candidates(x0, x1, margin): from the pairs separatingPlanes() found for the same x0 where
+    /// they serve, else a new search (counted in stats.broadPhases).
+    void sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                            std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats);
     void applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfCollisionStats& stats);
     void findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
                         SelfCollisionStats& stats);
@@ -170,18 +191,22 @@ private:
     std::vector<Aabb> mBoxes, mEdgeBoxes;
     std::vector<uint32_t> mHits;
     std::vector<Vec3> mReachEnd;                              ///< separatingPlanes: x0 + lookahead motion
-    std::vector<std::array<uint32_t, 2>> mPairsVf, mPairsEe;  ///< findCollisions' candidates
+    std::vector<std::array<uint32_t, 2>> mPairsVf, mPairsEe;  ///< applyProximity's, findCollisions' candidates
     std::vector<Aabb> mVertexBoxes;
-    // The update's broad phase, kept by separatingPlanes() for resolve() (cachedCandidates).
-    std::vector<Aabb> mCacheBoxes;                            ///< per vertex: where it may end
-    std::vector<std::array<uint32_t, 2>> mCacheVf, mCacheEe;  ///< pairs of those boxes, grown by mCacheMargin
-    std::vector<Vec3> mCacheStart;                            ///< the x0 they are for
-    double mCacheMargin = 0.0;
-    bool mCacheValid = false;
+    // separatingPlanes(): the update's pairs, which resolve() filters for the same x0.
+    PairCache mUpdate;
+    std::vector<Vec3> mUpdateStart;  ///< the x0 mUpdate is for
+    std::vector<uint8_t> mEscaped;   ///< pairsFromCache: per vertex, 1 = outside its cached box
+    std::vector<uint32_t> mEscapedVertices;
+    uint64_t mSearches = 0;
     std::vector<Contact> mPlanes;       ///< separatingPlanes: kPlanesPerVertex slots per vertex
     std::vector<uint8_t> mPlaneCount;   ///< slots in use per vertex
     std::vector<uint32_t> mZoneParent;  ///< union-find over vertices, root = smallest index
     std::vector<uint8_t> mInZone;
+    std::vector<std::array<uint32_t, 2>> mZoneMembers;  ///< rigidifyZones: (root, vertex)
+    std::vector<Collision> mCollisions, mFound;         ///< resolve's and findCollisions' scratch
+    std::vector<uint8_t> mStatus, mStopped;
+    std::vector<uint32_t> mBoxCounts;
 };
 
 } // namespace cc::collision
