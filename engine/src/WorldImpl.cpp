@@ -276,18 +276,22 @@ Status WorldImpl::setGarmentLevel(GarmentId id, int32_t forceLevel) {
 
 Status WorldImpl::setCameras(const CameraDesc* cameras, uint32_t count) {
     if (count > 0 && !cameras) return Status::invalidArgument("setCameras: cameras is null");
-    std::vector<lod::SchedulerCamera> converted(count);
+    // Every camera checked before any is kept (a refused call changes nothing); then copied into
+    // the kept vector, which a host moving its camera every frame does not make allocate.
     for (uint32_t c = 0; c < count; ++c) {
-        for (int k = 0; k < 16; ++k) converted[c].viewProjection(k % 4, k / 4) = cameras[c].viewProjection[k];
-        converted[c].viewportWidth = cameras[c].viewportWidth;
-        converted[c].viewportHeight = cameras[c].viewportHeight;
-        if (!converted[c].viewProjection.allFinite())
+        const double* m = cameras[c].viewProjection;
+        if (!std::all_of(m, m + 16, [](double v) { return std::isfinite(v); }))
             return Status::invalidArgument("setCameras: camera " + std::to_string(c) + " viewProjection is not finite");
         if (!(cameras[c].viewportWidth > 0.0 && cameras[c].viewportHeight > 0.0 &&
               std::isfinite(cameras[c].viewportWidth) && std::isfinite(cameras[c].viewportHeight)))
             return Status::invalidArgument("setCameras: camera " + std::to_string(c) + " viewport must be > 0 pixels");
     }
-    mCameras = std::move(converted);
+    mCameras.resize(count);
+    for (uint32_t c = 0; c < count; ++c) {
+        for (int k = 0; k < 16; ++k) mCameras[c].viewProjection(k % 4, k / 4) = cameras[c].viewProjection[k];
+        mCameras[c].viewportWidth = cameras[c].viewportWidth;
+        mCameras[c].viewportHeight = cameras[c].viewportHeight;
+    }
     return Status::ok();
 }
 

@@ -16,8 +16,12 @@ namespace {
 
 using test::WorldPtr;
 
-TEST(SteadyFrame, ACrowdStepsWithoutAllocating) {
+class SteadyFrame : public ::testing::TestWithParam<bool> {};
+
+TEST_P(SteadyFrame, ACrowdStepsWithoutAllocating) {
+    const bool selfCollision = GetParam();
     WorldDesc desc;
+    desc.selfCollision = selfCollision;
     desc.fixedCostModel = true;
     desc.maxThreads = 1;
     // A budget that never binds and no slack to spend: every garment's level, rate and collision
@@ -33,6 +37,11 @@ TEST(SteadyFrame, ACrowdStepsWithoutAllocating) {
     const double dt = 1.0 / 60.0;
     auto frame = [&](int f) {
         test::walkCrowd(*world, crowd, f * dt);
+        if (selfCollision) {  // a camera following the first character's back, close enough for it
+            const Vec3 back = crowd.starts[0] + Vec3(0.0, 0.0, crowd.speed * f * dt);
+            const CameraDesc close = test::cameraLookingAt(back + Vec3(0.3, 1.3, -1.6), back + Vec3(0, 1.2, 0));
+            ASSERT_TRUE(world->setCameras(&close, 1).isOk());
+        }
         ASSERT_TRUE(world->step(dt).isOk());
         for (GarmentId g : crowd.garments) ASSERT_TRUE(world->renderMesh(g).isOk());
     };
@@ -43,19 +52,31 @@ TEST(SteadyFrame, ACrowdStepsWithoutAllocating) {
     auto own = [] { return test::allocationCount() - test::embreeAllocationCount(); };
     test::classifyEmbreeAllocations(true);
     const long before = own(), embreeBefore = test::embreeAllocationCount();
-    int allocatingFrames = 0;
+    int allocatingFrames = 0, selfCollidingUpdates = 0;
     for (int f = 181; f <= 240; ++f) {
         const long start = own();
         frame(f);
         if (own() != start) ++allocatingFrames;
+        for (GarmentId g : crowd.garments) {
+            const GarmentStats stats = world->garmentStats(g).value();
+            selfCollidingUpdates += stats.updated && stats.selfCollision;
+        }
     }
     const long allocations = own() - before, embree = test::embreeAllocationCount() - embreeBefore;
     test::classifyEmbreeAllocations(false);
-    std::printf("steady frames: %ld allocations over 60 frames (%d frames allocated), %ld in Embree\n",
-                allocations, allocatingFrames, embree);
+    std::printf("steady frames (self-collision %s): %ld allocations over 60 frames (%d frames allocated), %ld in "
+                "Embree; %d garment updates with self-collision\n",
+                selfCollision ? "allowed" : "off", allocations, allocatingFrames, embree, selfCollidingUpdates);
+    // With it allowed, the near garment runs it (separating planes and the continuous pass).
+    if (selfCollision) {
+        EXPECT_GT(selfCollidingUpdates, 0);
+    }
     EXPECT_EQ(allocations, 0) << allocatingFrames << " of 60 frames allocated";
     EXPECT_LT(embree, 60 * 8 * 10) << "a few strings per body rebuilt (510 measured), not a growing pile";
 }
+
+INSTANTIATE_TEST_SUITE_P(SelfCollision, SteadyFrame, ::testing::Bool(),
+                         [](const ::testing::TestParamInfo<bool>& param) { return param.param ? "Allowed" : "Off"; });
 
 } // namespace
 } // namespace cc
