@@ -1,0 +1,107 @@
+// Garments on a character standing still come to rest and stay there: after they settle, no vertex
+// keeps moving from frame to frame (a shimmer) or creeps away (a drift), nothing turns non-finite
+// and no update fails.
+//
+// DISABLED: not met on main. Measured (2026-12-05, finest level, the assets' defaults, a close
+// camera), over 10 s after 20 s of settling, largest move of a vertex in one frame / from the start
+// of the 10 s to their end: straight cape 4.1 / 71 mm (it still swings: velocityDamping defaults to
+// 0), circle skirt 2.4 / 2.0, A-line dress 5.5 / 6.8, poncho 1.7 / 3.3 mm; 1 px at 2 m is ~2 mm.
+// What keeps the cape moving, by switching parts off one at a time (velocityDamping 1/s, 60 s):
+// the soft bending the substep factor leaves explicit (undamped; made implicit, 3 -> 0.3 mm a
+// frame); the corrections after the solve and the strain limit (without them, the body's contacts
+// in the solve alone and no bending: 0.02 mm); and a floor of 0.1-0.2 mm a frame from the
+// few-iteration Newton substep at equilibrium, with no body at all. ClothAssetDesc::damping
+// (Rayleigh) does not reach the substep solver (bit-identical runs at 0, 0.001 and 0.01 s).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "crowdcloth/World.h"
+#include "support/CrowdScenes.h"
+#include "support/WorldPtr.h"
+
+namespace cc {
+namespace {
+
+using test::WorldPtr;
+
+struct Garment {
+    const char* name;
+    GarmentKind kind;
+    GarmentCut cut;
+};
+
+class AtRest : public ::testing::TestWithParam<Garment> {};
+
+std::vector<Vec3> positionsOf(const RenderMeshView& mesh) {
+    std::vector<Vec3> out(mesh.vertexCount);
+    for (uint32_t v = 0; v < mesh.vertexCount; ++v)
+        out[v] = Vec3(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+    return out;
+}
+
+double largestMove(const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
+    double most = 0.0;
+    for (std::size_t v = 0; v < from.size(); ++v) most = std::max(most, (to[v] - from[v]).norm());
+    return most;
+}
+
+TEST_P(AtRest, DISABLED_AGarmentOnAStillCharacterComesToRest) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    WorldPtr world(World::create(desc).value());
+    ClothAssetDesc asset;
+    asset.kind = GetParam().kind;
+    asset.cut = GetParam().cut;
+    const AssetId cloth = world->addClothAsset(asset).value();
+    CharacterDesc c;
+    c.body = world->addMannequinBody({}).value();
+    c.clip = "";  // standing still in the rest pose
+    const CharacterId still = world->addCharacter(c).value();
+    const GarmentId garment = world->addGarment(cloth, still, {}).value();
+    ASSERT_TRUE(world->setGarmentLevel(garment, int32_t(asset.levelCount) - 1).isOk());
+    // Watched from close by, so the garment stays awake and updates every frame.
+    const CameraDesc camera = test::cameraLookingAt(Vec3(0.8, 1.2, -1.6), Vec3(0, 1.0, 0));
+    ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
+    const double dt = 1.0 / 60;
+    int updates = 0;
+    double fastest = 0.0;  // [m] largest move of a vertex in one frame while measuring
+    std::vector<Vec3> previous;
+    auto run = [&](int frames, bool measure) {
+        for (int f = 0; f < frames; ++f) {
+            ASSERT_TRUE(world->step(dt).isOk());
+            const GarmentStats stats = world->garmentStats(garment).value();
+            ASSERT_FALSE(stats.failed);
+            updates += stats.updated;
+            std::vector<Vec3> now = positionsOf(world->renderMesh(garment).value());
+            for (const Vec3& p : now) ASSERT_TRUE(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()));
+            if (measure) fastest = std::max(fastest, largestMove(previous, now));
+            previous = std::move(now);
+        }
+    };
+    run(20 * 60, false);  // settles
+    const std::vector<Vec3> settled = previous;
+    run(10 * 60, true);
+    const double drift = largestMove(settled, previous);
+    std::printf("[ at rest: %s ] %d updates in 30 s; over the last 10 s: largest move in a frame %.3f mm, "
+                "from the start of the 10 s to their end %.3f mm\n",
+                GetParam().name, updates, 1e3 * fastest, 1e3 * drift);
+    EXPECT_GE(updates, 30 * 60 - 1) << "the garment must keep updating, not sleep";
+    // A quarter of a pixel at 2 m (1080 lines, 60 degrees), where a garment runs its finest level.
+    EXPECT_LT(fastest, 0.5e-3);
+    EXPECT_LT(drift, 1e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Garments, AtRest,
+                         ::testing::Values(Garment{"cape", GarmentKind::Cape, GarmentCut::Straight},
+                                           Garment{"circle_skirt", GarmentKind::Skirt, GarmentCut::Circle},
+                                           Garment{"dress", GarmentKind::Dress, GarmentCut::ALine},
+                                           Garment{"poncho", GarmentKind::Poncho, GarmentCut::Straight}),
+                         [](const ::testing::TestParamInfo<Garment>& param) { return std::string(param.param.name); });
+
+} // namespace
+} // namespace cc
