@@ -25,6 +25,14 @@ constexpr int kPlanesPerVertex = 4;
 // searched one by one); more, and one search of all is cheaper.
 constexpr uint32_t kMaxEscapedShare = 4;  // 1 / 4
 
+bool hasVertex(const std::array<uint32_t, 3>& triangle, uint32_t v) {
+    return triangle[0] == v || triangle[1] == v || triangle[2] == v;
+}
+
+bool shareVertex(const std::array<uint32_t, 2>& a, const std::array<uint32_t, 2>& b) {
+    return a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
+}
+
 std::string vertexName(std::size_t v) { return "vertex " + std::to_string(v); }
 
 } // namespace
@@ -127,9 +135,7 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
     return self;
 }
 
-void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
-                               std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
-                               std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+void SelfCollision::sweptBoxes(Span<const Vec3> x0, Span<const Vec3> x1) {
     mVertexBoxes.resize(mVertexCount);
     for (uint32_t v = 0; v < mVertexCount; ++v) {
         Aabb box;
@@ -137,6 +143,12 @@ void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double 
         box.grow(x1[v]);
         mVertexBoxes[v] = box;
     }
+}
+
+void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                               std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                               std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    sweptBoxes(x0, x1);
     candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
 }
 
@@ -164,6 +176,15 @@ bool SelfCollision::edgesOverlap(uint32_t e, uint32_t f, double margin) const {
     return grown.overlaps(mEdgeBoxes[std::min(e, f)]);
 }
 
+void SelfCollision::fitTree() {
+    if (mBvhBuilt) {
+        mBvh.refit(mBoxes);
+    } else {
+        mBvh.build(mBoxes);
+        mBvhBuilt = true;
+    }
+}
+
 void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
                                       std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                       std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
@@ -173,25 +194,16 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
     // Triangle boxes (the hull of their vertices' boxes) grown by the margin; a vertex or edge box
     // overlaps one whenever their L-infinity gap, hence their distance, can be below the margin.
     hullBoxes(vertexBoxes, margin);
-    if (mBvhBuilt) {
-        mBvh.refit(mBoxes);
-    } else {
-        mBvh.build(mBoxes);
-        mBvhBuilt = true;
-    }
+    fitTree();
     // Every vertex and edge is owned by one triangle holding it, whose box holds its box: a pair
     // that overlaps is found through its owners' pair, once (adjacent primitives share a triangle
     // or a vertex and are skipped). Vertices of no triangle ask the tree themselves.
     auto vertexTriangle = [&](uint32_t v, uint32_t t) {
-        const auto& tri = mTriangles[t];
-        if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-        if (mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
+        if (!hasVertex(mTriangles[t], v) && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
     };
     auto edgeEdge = [&](uint32_t e, uint32_t f) {
-        const auto& a = mEdges[e];
-        const auto& b = mEdges[f];
-        if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
-        if (edgesOverlap(e, f, margin)) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
+        if (!shareVertex(mEdges[e], mEdges[f]) && edgesOverlap(e, f, margin))
+            outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
     };
     auto ownedBy = [&](uint32_t t, uint32_t u) {
         for (int k = 0; k < 3; ++k) {
@@ -271,27 +283,18 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
 
     // Pairs with an escaped vertex, searched in the tree refit to the current boxes. Each vertex or
     // edge box lies in its owning triangle's grown box, so a query finds its owner.
-    if (mBvhBuilt) {
-        mBvh.refit(mBoxes);
-    } else {
-        mBvh.build(mBoxes);
-        mBvhBuilt = true;
-    }
-    auto inTriangle = [&](uint32_t v, uint32_t t) {
-        const auto& tri = mTriangles[t];
-        return tri[0] == v || tri[1] == v || tri[2] == v;
-    };
+    fitTree();
     std::vector<uint32_t>& hits = mHits;
     for (uint32_t v : mEscapedVertices) {  // an escaped vertex against every triangle
         hits.clear();
         mBvh.query(vertexBoxes[v], hits);
         for (uint32_t t : hits)
-            if (!inTriangle(v, t)) outVertexTriangle.push_back({v, t});
+            if (!hasVertex(mTriangles[t], v)) outVertexTriangle.push_back({v, t});
     }
     for (uint32_t t = 0; t < mTriangles.size(); ++t) {  // a triangle with one against the other vertices
         if (!escapedTriangle(t)) continue;
         auto vertexAgainst = [&](uint32_t w) {
-            if (!mEscaped[w] && !inTriangle(w, t) && mBoxes[t].overlaps(vertexBoxes[w]))
+            if (!mEscaped[w] && !hasVertex(mTriangles[t], w) && mBoxes[t].overlaps(vertexBoxes[w]))
                 outVertexTriangle.push_back({w, t});
         };
         hits.clear();
@@ -313,8 +316,7 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
                 if (!(mOwnsEdge[u] & (1u << k))) continue;
                 const uint32_t f = mTriangleEdges[u][k];
                 if (escapedEdge(f) && f < e) continue;  // that pair is found from f
-                const auto& b = mEdges[f];
-                if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+                if (shareVertex(a, mEdges[f])) continue;
                 if (edgesOverlap(e, f, margin)) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
             }
     }
@@ -326,13 +328,7 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
 void SelfCollision::sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                                     std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                     std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats) {
-    mVertexBoxes.resize(mVertexCount);
-    for (uint32_t v = 0; v < mVertexCount; ++v) {
-        Aabb box;
-        box.grow(x0[v]);
-        box.grow(x1[v]);
-        mVertexBoxes[v] = box;
-    }
+    sweptBoxes(x0, x1);
     const bool sameStart =
         mUpdate.valid && x0.size() == mUpdateStart.size() && std::equal(x0.begin(), x0.end(), mUpdateStart.begin());
     if (sameStart && pairsFromCache(mUpdate, mVertexBoxes, margin, outVertexTriangle, outEdgeEdge)) return;

@@ -155,6 +155,10 @@ private:
     bool pairsFromCache(const PairCache& cache, Span<const Aabb> vertexBoxes, double margin,
                         std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                         std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// mVertexBoxes: each vertex's box over its motion from x0 to x1.
+    void sweptBoxes(Span<const Vec3> x0, Span<const Vec3> x1);
+    /// The tree over mBoxes: built the first time, refit after.
+    void fitTree();
     /// mBoxes (each triangle's hull of its vertices' boxes, grown by margin) and mEdgeBoxes.
     void hullBoxes(Span<const Aabb> vertexBoxes, double margin);
     /// The broad phase's box test of two edges, the same whichever is named first.
