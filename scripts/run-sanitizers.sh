@@ -19,7 +19,7 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 
 start=$(date +%s)
 # -O2 -g1: optimised (Eigen is slow without inlining), line tables for the reports' stacks.
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_SAMPLES=OFF -DCC_UNITY_LIBRARIES=ON -DCC_TEST_SOURCE_FLAGS=-O1 \
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_SAMPLES=OFF -DCC_UNITY_LIBRARIES=ON -DCC_UNITY_TESTS=ON -DCC_TEST_SOURCE_FLAGS=-O1 \
       -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
       -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san $nowarn" \
       -DCMAKE_EXE_LINKER_FLAGS="$san" -DCMAKE_SHARED_LINKER_FLAGS="$san"

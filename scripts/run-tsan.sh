@@ -12,7 +12,7 @@ export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/s
 
 start=$(date +%s)
 # -O1 -g1: builds in about two minutes on 2 cores, line tables for the reports' stacks.
-cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF -DCC_UNITY_LIBRARIES=ON \
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF -DCC_UNITY_LIBRARIES=ON -DCC_UNITY_TESTS=ON \
       -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
       -DCMAKE_C_FLAGS="-fsanitize=thread" -DCMAKE_CXX_FLAGS="-fsanitize=thread" \
       -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=thread" > /dev/null
