@@ -188,7 +188,6 @@ void SelfCollision::fitTree() {
 void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
                                       std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                       std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
-    ++mSearches;
     outVertexTriangle.clear();
     outEdgeEdge.clear();
     // Triangle boxes (the hull of their vertices' boxes) grown by the margin; a vertex or edge box

@@ -117,9 +117,6 @@ public:
                             const SeparatingPlaneSettings& settings, std::vector<Contact>& outPlanes);
 
     const SelfCollisionSettings& settings() const { return mSettings; }
-    /// Full broad-phase searches so far (separatingPlanes() and resolve() together); the other
-    /// calls filtered kept pairs. For tests and benchmarks of the reuse.
-    uint64_t broadPhaseSearches() const { return mSearches; }
     uint32_t vertexCount() const { return mVertexCount; }
     Span<const std::array<uint32_t, 3>> triangles() const { return mTriangles; }
     Span<const std::array<uint32_t, 2>> edges() const { return mEdges; }
@@ -168,8 +165,8 @@ private:
     /// candidates(x0, x1, margin): from the pairs separatingPlanes() found for the same x0 where
     /// they serve, else a new search (counted in stats.broadPhases).
     void sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
-                            std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
-                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats);
+                         std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                         std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats);
     void applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfCollisionStats& stats);
     void findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
                         SelfCollisionStats& stats);
@@ -202,7 +199,6 @@ private:
     std::vector<Vec3> mUpdateStart;  ///< the x0 mUpdate is for
     std::vector<uint8_t> mEscaped;   ///< pairsFromCache: per vertex, 1 = outside its cached box
     std::vector<uint32_t> mEscapedVertices;
-    uint64_t mSearches = 0;
     std::vector<Contact> mPlanes;       ///< separatingPlanes: kPlanesPerVertex slots per vertex
     std::vector<uint8_t> mPlaneCount;   ///< slots in use per vertex
     std::vector<uint32_t> mZoneParent;  ///< union-find over vertices, root = smallest index
