@@ -132,6 +132,10 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
             }
     for (uint32_t v = 0; v < vertexCount; ++v)
         if (!owned[v]) self.mLoneVertices.push_back(v);
+    // Collision lists sized up front (one per triangle), so a frame with more crossings than the
+    // warm-up had does not allocate.
+    self.mFound.reserve(triangles.size());
+    self.mCollisions.reserve(triangles.size());
     return self;
 }
 
