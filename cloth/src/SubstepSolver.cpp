@@ -27,6 +27,9 @@ Status SubstepSettings::validate() const {
     if (!(contactThickness >= 0.0 && contactThickness <= 1.0))
         return Status::invalidArgument("SubstepSettings.contactThickness = " + std::to_string(contactThickness) +
                                        " m is outside [0, 1]");
+    if (!(compressionStiffness >= 0.0 && compressionStiffness <= 1.0))
+        return Status::invalidArgument("SubstepSettings.compressionStiffness = " + std::to_string(compressionStiffness) +
+                                       " is outside [0, 1]");
     if (Status s = friction.validate(); !s) return Status::invalidArgument("SubstepSettings." + s.message());
     return Status::ok();
 }
@@ -271,8 +274,8 @@ private:
         double* bend = mW.solution.data();
         if (explicitBending) {
             std::fill(bend, bend + std::size_t(nodes) * kRow, 0.0);
-            springForces(mLevel.freeBendSprings(), x, bend, nullptr, true);
-            springForces(mLevel.attachedBendSprings(), x, bend, nullptr, false);
+            springForces(mLevel.freeBendSprings(), x, bend, nullptr, true, 1.0);
+            springForces(mLevel.attachedBendSprings(), x, bend, nullptr, false, 1.0);
         }
         // Inertial prediction y = x + h v + h^2 a; the solve starts from x = y.
         if (mRotating) {
@@ -375,28 +378,34 @@ private:
             const std::size_t o = std::size_t(k) * kRow;
             for (int i = 0; i < kRow; ++i) b[o + i] = inertia * y[o + i];
         }
-        projections(mLevel.freeSprings(), x, b, true);
-        projections(mLevel.attachedSprings(), x, b, false);
+        const double compression = mSettings.compressionStiffness;
+        projections(mLevel.freeSprings(), x, b, true, compression);
+        projections(mLevel.attachedSprings(), x, b, false, compression);
         if (mFactor->includesBending()) {
-            projections(mLevel.freeBendSprings(), x, b, true);
-            projections(mLevel.attachedBendSprings(), x, b, false);
+            projections(mLevel.freeBendSprings(), x, b, true, 1.0);
+            projections(mLevel.attachedBendSprings(), x, b, false, 1.0);
         }
     }
 
+    // A spring shorter than rest projects only `compression` of the way back to its rest length
+    // (the force k (|d| - p) is then compression x k (|d| - L0)).
     void projections(const std::vector<LevelSpring>& springs, const double* CC_RESTRICT x, double* CC_RESTRICT b,
-                     bool bothFree) const {
+                     bool bothFree, double compression) const {
         for (const LevelSpring& sp : springs) {
             const double* CC_RESTRICT xa = x + std::size_t(sp.a) * kRow;
             const double* CC_RESTRICT xb = x + std::size_t(sp.b) * kRow;
             double* CC_RESTRICT ba = b + std::size_t(sp.a) * kRow;
             double* CC_RESTRICT bb = b + std::size_t(sp.b) * kRow;
-            const double kl = sp.stiffness * sp.restLength;
             for (int l = 0; l < W; l += S) {
                 const V ax = load<V>(xa + l), ay = load<V>(xa + W + l), az = load<V>(xa + 2 * W + l);
                 const V bx = load<V>(xb + l), by = load<V>(xb + W + l), bz = load<V>(xb + 2 * W + l);
                 const V dx = ax - bx, dy = ay - by, dz = az - bz;
                 const V length = vsqrt(dx * dx + dy * dy + dz * dz);
-                const V scale = length > 0.0 ? kl / length : V{};
+                V scale = length > 0.0 ? sp.stiffness * sp.restLength / length : V{};
+                if (compression < 1.0) {
+                    const V target = length + compression * (sp.restLength - length);
+                    scale = length < sp.restLength ? (length > 0.0 ? sp.stiffness * target / length : V{}) : scale;
+                }
                 if (bothFree) {
                     store(ba + l, load<V>(ba + l) + scale * dx);
                     store(ba + W + l, load<V>(ba + W + l) + scale * dy);
@@ -415,8 +424,9 @@ private:
 
     // Spring forces at x added into f (f = -grad E); with `frames`, also each spring's definite
     // Hessian k [n n^T + t (I - n n^T)], t = max(0, 1 - L0 / |d|), stored as (n, k (1 - t), k t).
+    // A spring shorter than rest pulls with `compression` of its stiffness (force and Hessian).
     void springForces(const std::vector<LevelSpring>& springs, const double* CC_RESTRICT x, double* CC_RESTRICT f,
-                      double* CC_RESTRICT frames, bool bothFree) const {
+                      double* CC_RESTRICT frames, bool bothFree, double compression) const {
         for (std::size_t i = 0; i < springs.size(); ++i) {
             const LevelSpring& sp = springs[i];
             const double* CC_RESTRICT xa = x + std::size_t(sp.a) * kRow;
@@ -430,7 +440,9 @@ private:
                 const V length = vsqrt(dx * dx + dy * dy + dz * dz);
                 const V inverse = length > 0.0 ? 1.0 / length : V{};
                 const V nx = dx * inverse, ny = dy * inverse, nz = dz * inverse;
-                const V tension = sp.stiffness * (length - sp.restLength);
+                const V stretch = length - sp.restLength;
+                const V stiffness = stretch < 0.0 ? V{} + compression * sp.stiffness : V{} + sp.stiffness;
+                const V tension = stiffness * stretch;
                 store(fa + l, load<V>(fa + l) - tension * nx);
                 store(fa + W + l, load<V>(fa + W + l) - tension * ny);
                 store(fa + 2 * W + l, load<V>(fa + 2 * W + l) - tension * nz);
@@ -444,7 +456,7 @@ private:
                     const V stretched = 1.0 - sp.restLength * inverse;
                     const V t = length > 0.0 ? (stretched > 0.0 ? stretched : V{}) : V{} + 1.0;
                     store(frame + l, nx), store(frame + W + l, ny), store(frame + 2 * W + l, nz);
-                    store(frame + 3 * W + l, sp.stiffness * (1.0 - t));
+                    store(frame + 3 * W + l, stiffness * (1.0 - t));
                     store(frame + 4 * W + l, sp.stiffness * t);
                 }
             }
@@ -515,6 +527,7 @@ private:
     struct Group {
         const std::vector<LevelSpring>* springs;
         bool bothFree;
+        double compression;  // stretch and shear: the settings'; bending: 1
     };
 
     // d += a p and r -= a q with a per lane scalar: CG's update along its search direction p (q = A p),
@@ -539,15 +552,15 @@ private:
         const std::size_t size = std::size_t(free) * kRow;
         mGroupCount = 0;
         std::size_t springs = 0;
-        auto group = [&](const std::vector<LevelSpring>& list, bool bothFree) {
-            mGroups[mGroupCount++] = {&list, bothFree};
+        auto group = [&](const std::vector<LevelSpring>& list, bool bothFree, double compression) {
+            mGroups[mGroupCount++] = {&list, bothFree, compression};
             springs += list.size();
         };
-        group(mLevel.freeSprings(), true);
-        group(mLevel.attachedSprings(), false);
+        group(mLevel.freeSprings(), true, mSettings.compressionStiffness);
+        group(mLevel.attachedSprings(), false, mSettings.compressionStiffness);
         if (mFactor->includesBending()) {
-            group(mLevel.freeBendSprings(), true);
-            group(mLevel.attachedBendSprings(), false);
+            group(mLevel.freeBendSprings(), true, 1.0);
+            group(mLevel.attachedBendSprings(), false, 1.0);
         }
         for (auto* a : {&mW.search, &mW.product}) ensureSize(*a, size);  // written before read
         for (auto* a : {&mW.residual, &mW.correction}) a->assign(size, 0.0);  // accumulated into
@@ -560,7 +573,7 @@ private:
         double* frames = mW.springFrames.data();
         for (int k = 0; k < mGroupCount; ++k) {
             const Group& g = mGroups[k];
-            springForces(*g.springs, x, r, frames, g.bothFree);
+            springForces(*g.springs, x, r, frames, g.bothFree, g.compression);
             frames += g.springs->size() * 5 * W;
         }
         if (warm) {

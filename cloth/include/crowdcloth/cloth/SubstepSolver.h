@@ -39,6 +39,12 @@ struct SubstepSettings {
                                    ///< to the attached nodes; 0 = off; [0, 10]
     int strainLimitPasses = 8;     ///< [-] most sweeps of the limit; [1, 1000]
     double contactThickness = 0.0; ///< [m] contact planes lie this far outside the body surface; [0, 1]
+    /// [-] stiffness of a stretch or shear spring shorter than its rest length, as a fraction of its
+    /// stiffness in tension; bending springs keep theirs. Woven cloth buckles rather than shortens
+    /// (Choi & Ko 2002, "Stable but responsive cloth"): a mesh too coarse for its folds holds them
+    /// as compression, and at full stiffness a circle skirt hung in folds springs back out flat.
+    /// 1 = symmetric springs; [0, 1]
+    double compressionStiffness = 1.0;
     Friction friction;             ///< Coulomb friction against contact surfaces
 
     /// Names the first invalid field.
@@ -106,8 +112,7 @@ struct SubstepWorkspace {
 /// - LocalGlobal (Liu, Bargteil, O'Brien & Kavan 2013, "Fast simulation of mass-spring systems";
 ///   Bouaziz et al. 2014, "Projective dynamics"): from x = y, the local step projects each spring
 ///   of x to its rest length (p_s), the global step solves P x = M / h^2 y + sum k_s A_s^T p_s.
-/// Soft bending springs the factor leaves out are explicit forces in LocalGlobal and part of the
-/// Newton system (only the preconditioner lacks them). Then contacts as projections with Coulomb
+/// Soft bending springs the factor leaves out are explicit forces in the prediction (both methods). Then contacts as projections with Coulomb
 /// friction (Macklin et al. 2014, section 6) and v = (x - x_prev) / h. After the last substep,
 /// Provot's strain limit (with tethers) if asked. Attached nodes are eliminated: they move
 /// linearly to their targets.
