@@ -27,7 +27,8 @@
                 X(bend_stiffness, bendStiffness) X(damping, damping) X(thickness, thickness)       \
                     X(friction, friction) X(fold_radius, foldRadius)                               \
                         X(relative_length, relativeLength) X(hem_width, hemWidth) X(ease, ease)     \
-                            X(velocity_damping, velocityDamping)
+                            X(velocity_damping, velocityDamping)                               \
+                                X(compression_stiffness, compressionStiffness)
 #define CC_MANNEQUIN_FIELDS(X)                                                                     \
     X(height, height)                                                                              \
     X(shoulder_width, shoulderWidth) X(hip_width, hipWidth) X(waist_width, waistWidth)             \

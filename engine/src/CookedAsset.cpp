@@ -24,6 +24,8 @@ Status ClothAssetDesc::validate() const {
     if (!inRange(thickness, 0.0, 1.0)) return Status::invalidArgument("ClothAssetDesc.thickness must be in (0, 1] m");
     if (!(velocityDamping >= 0.0 && velocityDamping <= 100.0))
         return Status::invalidArgument("ClothAssetDesc.velocityDamping must be in [0, 100] 1/s");
+    if (!(compressionStiffness >= 0.0 && compressionStiffness <= 1.0))
+        return Status::invalidArgument("ClothAssetDesc.compressionStiffness must be in [0, 1]");
     if (!(friction >= 0.0 && friction <= 2.0)) return Status::invalidArgument("ClothAssetDesc.friction must be in [0, 2]");
     if (!inRange(foldRadius, 0.0, 100.0)) return Status::invalidArgument("ClothAssetDesc.foldRadius must be in (0, 100] m");
     cloth::ClothMaterial material;

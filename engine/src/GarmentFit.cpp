@@ -1,5 +1,7 @@
 #include "GarmentFit.h"
 
+#include "PlacementRelaxation.h"
+
 #include "crowdcloth/core/ConvexHull.h"
 
 #include <algorithm>
@@ -695,7 +697,9 @@ Vec3 PanelPlacement::at(double s, double t) const {
     return (1.0 - wr) * row(r) + wr * row(r + 1);
 }
 
-Result<FittedGarment> fitGarment(const ClothAssetDesc& design, const BodyAsset& body) {
+namespace {
+
+Result<FittedGarment> fitByKind(const ClothAssetDesc& design, const BodyAsset& body) {
     if (Status s = design.validate(); !s) return s;
     const std::string what = std::string(kindName(design.kind)) + " on " +
                              (body.character().name.empty() ? std::string("a host-skinned body") : "'" + body.character().name + "'");
@@ -716,6 +720,16 @@ Result<FittedGarment> fitGarment(const ClothAssetDesc& design, const BodyAsset& 
     }
     }
     return Status::invalidArgument("ClothAssetDesc.kind is unknown");
+}
+
+} // namespace
+
+Result<FittedGarment> fitGarment(const ClothAssetDesc& design, const BodyAsset& body) {
+    auto fitted = fitByKind(design, body);
+    if (!fitted.isOk()) return fitted;
+    FittedGarment& fit = fitted.value();
+    relaxPlacement(fit.pattern, fit.placement);
+    return fitted;
 }
 
 Result<CookedAsset> cookFittedGarment(const ClothAssetDesc& design, const BodyAsset& body) {

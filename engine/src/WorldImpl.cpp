@@ -684,6 +684,7 @@ bool WorldImpl::nextStepPhase() {
             batch.settings.iterations = keys[k].iterations;
             batch.settings.strainLimit = mDesc.strainLimit;
             batch.settings.contactThickness = g.asset().desc.thickness;
+            batch.settings.compressionStiffness = g.asset().desc.compressionStiffness;
             batch.settings.friction = cloth::Friction{g.asset().desc.friction, 0.8 * g.asset().desc.friction};
             batch.items.clear();
             for (std::size_t j = k; j < std::min<std::size_t>(end, k + mDesc.batchSize); ++j) batch.items.push_back(keys[j].item);

@@ -177,7 +177,7 @@ void events(World& world, const Cooked& s, Crowd& run, int frame) {
     const std::vector<float>& host = hostFrames().frames[frame];
     ASSERT_TRUE(world.setCharacterSkinnedVertices(run.hostCharacter, host.data(), uint32_t(host.size() / 3), 0).isOk());
     const double a = std::min(1.0, t / (kLastFrame * kDt));
-    const Vec3 eye = Vec3(0.5, 1.6, 9.0) * (1.0 - a) + Vec3(0.5, 1.3, 1.6) * a;
+    const Vec3 eye = Vec3(0.5, 1.6, 9.0) * (1.0 - a) + Vec3(0.5, 1.3, 1.2) * a;
     const CameraDesc camera = test::cameraLookingAt(eye, Vec3(0.5, 1.0, -2.0));
     ASSERT_TRUE(world.setCameras(&camera, 1).isOk());
 }

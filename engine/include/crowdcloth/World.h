@@ -123,6 +123,10 @@ struct CC_API ClothAssetDesc {
     double stretchStiffness = 5.0e3; ///< [N/m] > 0
     double shearStiffness = 5.0e2;   ///< [N/m] > 0
     double bendStiffness = 1.0e-5;   ///< [N m] >= 0
+    double compressionStiffness = 0.1; ///< [-] stiffness of stretch and shear shorter than rest, as a
+                                     ///< fraction of theirs in tension: cloth buckles into folds finer
+                                     ///< than the mesh instead (at 1 a circle skirt, hung in folds,
+                                     ///< springs out flat; at 0 a cape narrows to a strip); [0, 1]
     double damping = 0.0;            ///< [s] Rayleigh stiffness-proportional; >= 0. Not read by the
                                      ///< World's substep solvers (measured: bit-identical runs at 0,
                                      ///< 0.001 and 0.01 s): damp with velocityDamping

@@ -35,7 +35,7 @@ typedef enum cc_status {
  * half. create/add calls reject unstamped structs and structs of another layout (older or newer
  * headers than the library), naming the desc and both layouts. */
 #define CC_DESC_MAGIC 0x43430000u
-#define CC_DESC_VERSION (CC_DESC_MAGIC | 4u)
+#define CC_DESC_VERSION (CC_DESC_MAGIC | 5u)
 
 typedef struct cc_world cc_world;
 
@@ -84,6 +84,7 @@ typedef struct cc_cloth_asset_desc {
     double hem_width;                  /* [m] 0 = the cut's */
     double ease;                       /* [m] girth added to the body's */
     double velocity_damping;           /* [1/s] decay of the cloth's velocity relative to its character */
+    double compression_stiffness;      /* [-] of stretch and shear shorter than rest, fraction of theirs */
 } cc_cloth_asset_desc;
 
 /* How an imported character becomes a body. */
