@@ -5,7 +5,7 @@
 //
 //   cc_dress [--asset FILE] [--garment cape|skirt|dress|poncho] [--cut straight|aline|circle]
 //            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N] [--out DIR]
-//            [--height M] [--width W --length L] [--speed M/S]
+//            [--height M] [--width W --length L] [--speed M/S] [--compression C]
 //
 // --speed walks the character forward (its root along its facing, the camera following), as a
 // crowd's walkers do: the cloth then trails the body.
@@ -33,6 +33,7 @@ struct Options {
     std::string clip;
     int clipIndex = -1;
     double seconds = 3.0, rate = 60.0, height = 0.0, width = 0.0, length = 0.0, speed = 0.0;
+    double compression = cc::ClothAssetDesc{}.compressionStiffness;
     int every = 30;
     std::string out = "dress_out";
 };
@@ -66,6 +67,7 @@ bool parse(int argc, char** argv, Options& o) {
         else if (a == "--seconds") o.seconds = std::atof(next().c_str());
         else if (a == "--rate") o.rate = std::atof(next().c_str());
         else if (a == "--speed") o.speed = std::atof(next().c_str());
+        else if (a == "--compression") o.compression = std::atof(next().c_str());
         else if (a == "--every") o.every = std::max(1, std::atoi(next().c_str()));
         else if (a == "--out") o.out = next();
         else if (a == "--height") o.height = std::atof(next().c_str());
@@ -129,6 +131,7 @@ int main(int argc, char** argv) {
     ad.cut = o.cut;
     ad.width = o.width;
     ad.length = o.length;
+    ad.compressionStiffness = o.compression;
     auto asset = world->addClothAsset(ad);
     if (!asset.isOk()) return fail("asset", asset.status());
     cc::CharacterDesc cd;
