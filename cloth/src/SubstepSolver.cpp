@@ -434,6 +434,7 @@ private:
             double* CC_RESTRICT fa = f + std::size_t(sp.a) * kRow;
             double* CC_RESTRICT fb = f + std::size_t(sp.b) * kRow;
             double* CC_RESTRICT frame = frames ? frames + i * 5 * W : nullptr;
+            const double compressed = compression * sp.stiffness;
             for (int l = 0; l < W; l += S) {
                 const V dx = load<V>(xa + l) - load<V>(xb + l), dy = load<V>(xa + W + l) - load<V>(xb + W + l),
                         dz = load<V>(xa + 2 * W + l) - load<V>(xb + 2 * W + l);
@@ -441,7 +442,8 @@ private:
                 const V inverse = length > 0.0 ? 1.0 / length : V{};
                 const V nx = dx * inverse, ny = dy * inverse, nz = dz * inverse;
                 const V stretch = length - sp.restLength;
-                const V stiffness = stretch < 0.0 ? V{} + compression * sp.stiffness : V{} + sp.stiffness;
+                V stiffness = V{} + sp.stiffness;
+                if (compression < 1.0) stiffness = length < sp.restLength ? V{} + compressed : stiffness;
                 const V tension = stiffness * stretch;
                 store(fa + l, load<V>(fa + l) - tension * nx);
                 store(fa + W + l, load<V>(fa + W + l) - tension * ny);

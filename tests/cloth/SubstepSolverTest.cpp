@@ -645,10 +645,9 @@ TEST(SubstepSolver, AMassAtRestSeenFromATurningFrameGoesRoundTheOtherWayConvergi
     EXPECT_NEAR(coarse / fine, 4.0, 1.0) << coarse << " " << fine;
 }
 
-TEST(SubstepSolver, AMassOnASpringInATurningFrameSettlesAtTheCentrifugalRadius) {
-    // Spring k, rest length L from an attached node on the axis, no gravity: k (r - L) = m w^2 r,
-    // so r = k L / (k - m w^2). Damping settles it.
-    const double k = 40.0, mass = 0.1, rest = 0.5, w = 12.0;
+/// A mass on a spring of stiffness k and rest length `rest` from an attached node at the origin,
+/// the mass starting at `start`, both of mass `mass`.
+std::unique_ptr<SubstepSimulation> massOnSpring(double k, double mass, double rest, const Vec3& start) {
     std::vector<Spring> springs = {{0, 1, k, rest, SpringKind::Structural}};
     const double m[] = {mass, mass};
     const uint32_t attached[] = {0};
@@ -657,7 +656,14 @@ TEST(SubstepSolver, AMassOnASpringInATurningFrameSettlesAtTheCentrifugalRadius) 
     desc.springs = springs;
     desc.masses = m;
     desc.attachedVertices = attached;
-    auto sim = SubstepSimulation::create(desc, {Vec3::Zero(), Vec3(rest, 0.0, 0.0)}).value();
+    return SubstepSimulation::create(desc, {Vec3::Zero(), start}).value();
+}
+
+TEST(SubstepSolver, AMassOnASpringInATurningFrameSettlesAtTheCentrifugalRadius) {
+    // Spring k, rest length L from an attached node on the axis, no gravity: k (r - L) = m w^2 r,
+    // so r = k L / (k - m w^2). Damping settles it.
+    const double k = 40.0, mass = 0.1, rest = 0.5, w = 12.0;
+    auto sim = massOnSpring(k, mass, rest, Vec3(rest, 0.0, 0.0));
     sim->setAcceleration(Vec3::Zero());
     sim->setFrameRotation(Vec3(0.0, w, 0.0));
     sim->setVelocityDamping(4.0);
@@ -696,15 +702,7 @@ TEST(SubstepSolver, ASpringSoftInCompressionRecoilsToTheStretchItsStoredEnergyAl
     const double k = 100.0, mass = 1.0, rest = 1.0, d = 0.1;
     for (SubstepMethod method : {SubstepMethod::Newton, SubstepMethod::LocalGlobal}) {
         for (double compression : {1.0, 0.25, 0.04}) {
-            std::vector<Spring> springs = {{0, 1, k, rest, SpringKind::Structural}};
-            const double m[] = {mass, mass};
-            const uint32_t attached[] = {0};
-            ClothLevelDesc desc;
-            desc.vertexCount = 2;
-            desc.springs = springs;
-            desc.masses = m;
-            desc.attachedVertices = attached;
-            auto sim = SubstepSimulation::create(desc, {Vec3::Zero(), Vec3(rest - d, 0.0, 0.0)}).value();
+            auto sim = massOnSpring(k, mass, rest, Vec3(rest - d, 0.0, 0.0));
             sim->setAcceleration(Vec3::Zero());
             SubstepSettings settings;
             settings.method = method;
