@@ -11,10 +11,9 @@
 // skirt's motion lives in the solve itself (the corrections after it change nothing), its hem
 // swirling at 0.5 m/s where it meets the hands (rms 0.14 m/s over its vertices); air damping does
 // not stop it (velocityDamping 2/s: 1.5 m/s, 61 mm a frame), nor does implicit bending in Newton's
-// system (57 mm) or inelastic velocities in the strain limit (37 mm). Suspected, not yet shown: a
-// contact plane is a half-space, so a vertex sliding past a hand is pushed where the hand is not,
-// and each push stores energy in the springs round it (a push removes the normal velocity, not
-// the stretch it causes). Earlier, before
+// system (57 mm), inelastic velocities in the strain limit (37 mm) or contact planes that hold only
+// within 2-5 cm of their contact point (18-21 mm: a plane is a half-space, so a vertex sliding past
+// a hand could be pushed where the hand is not; that is not what drives it). Earlier, before
 // the placement relaxation: cape 4.1 / 71, circle skirt 2.4 / 2.0 (flung up round the torso and
 // held there), dress 5.5 / 6.8, poncho 1.7 / 3.3. ClothAssetDesc::damping (Rayleigh) does not reach
 // the substep solver.
