@@ -99,23 +99,4 @@ void relaxPlacement(const lod::GarmentPattern& pattern, std::vector<PanelPlaceme
     }
 }
 
-double placementStrain(const lod::PanelDesc& panel, const PanelPlacement& placement) {
-    const Grid& p = placement.rings;
-    const std::size_t rows = p.size(), columns = rows > 0 ? p[0].size() : 0;
-    if (rows < 2 || columns < 2) return 0.0;
-    const std::vector<std::vector<Vec2>> rest = restGrid(panel, rows, columns);
-    double worst = 0.0;
-    const auto check = [&](std::size_t r0, std::size_t c0, std::size_t r1, std::size_t c1) {
-        const double l = (rest[r0][c0] - rest[r1][c1]).norm();
-        if (l > 0.0) worst = std::max(worst, (p[r0][c0] - p[r1][c1]).norm() / l - 1.0);
-    };
-    for (std::size_t r = 0; r < rows; ++r)
-        for (std::size_t c = 0; c < columns; ++c) {
-            if (c + 1 < columns) check(r, c, r, c + 1);
-            if (r + 1 < rows) check(r, c, r + 1, c);
-            if (r + 1 < rows && c + 1 < columns) check(r, c, r + 1, c + 1), check(r, c + 1, r + 1, c);
-        }
-    return worst;
-}
-
 } // namespace cc::detail

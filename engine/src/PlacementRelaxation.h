@@ -19,8 +19,4 @@ namespace cc::detail {
 /// rest stay as they are (compression is the folds the grid cannot show).
 void relaxPlacement(const lod::GarmentPattern& pattern, std::vector<PanelPlacement>& placement);
 
-/// Largest strain of a panel's placement grid edges (rows, columns and both diagonals) against the
-/// panel's rest shape; 0 when nothing is stretched.
-double placementStrain(const lod::PanelDesc& panel, const PanelPlacement& placement);
-
 } // namespace cc::detail
