@@ -433,4 +433,22 @@ uint64_t GarmentInstance::hash() const {
     return hashBytes(mVelocities.data(), mVelocities.size() * sizeof(Vec3), h);
 }
 
+void setInertialForces(GarmentInstance& g, const CharacterInstance& c, const Vec3& gravity, double sinceUpdate,
+                       double longestStep) {
+    GarmentUpdateContext& context = g.context;
+    const double h = context.dt;
+    const bool resumed = sinceUpdate > longestStep * (1.0 + 1e-9);
+    const Vec3 velocityChange = resumed ? Vec3::Zero() : Vec3(c.velocity - g.lastRootVelocity);
+    const double yawRateChange = resumed ? 0.0 : c.yawRate - g.lastYawRate;
+    const double s = g.inertiaScale();
+    // Into the frame at its mean heading over the step (the velocity change turned with it).
+    const double meanYaw = c.yaw - 0.5 * h * (c.yawRate - 0.5 * yawRateChange);
+    const Mat3 toLocal = Eigen::AngleAxisd(-meanYaw, Vec3::UnitY()).toRotationMatrix();
+    context.acceleration = toLocal * (gravity - s * velocityChange / h);
+    context.angularVelocity = Vec3(0.0, c.yawRate - 0.5 * yawRateChange, 0.0);  // mean over the step
+    context.angularAcceleration = Vec3(0.0, yawRateChange / h, 0.0);
+    g.lastRootVelocity = c.velocity;
+    g.lastYawRate = c.yawRate;
+}
+
 } // namespace cc::detail

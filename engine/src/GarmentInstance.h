@@ -126,6 +126,8 @@ public:
     /// character.
     void saveState(SnapshotWriter& out) const;
     Status restoreState(SnapshotReader& in);
+    /// A second garment on the same character in this one's state (the shadow check's reference).
+    Result<std::unique_ptr<GarmentInstance>> clone(CharacterInstance& character) const;
 
 private:
     GarmentInstance() = default;
@@ -175,5 +177,14 @@ private:
     std::vector<double> mSelfMasses;        ///< 0 for vertices driven by the body
     std::vector<uint32_t> mRenderIndices;
 };
+
+/// Garments simulate in their character's frame, which moves with the root and turns about +Y:
+/// gravity less the root's acceleration, and the turning frame's Coriolis, centrifugal and Euler
+/// forces (applied by the solver), act on the cloth, scaled by the garment's inertia scale. The
+/// accelerations are the root velocity's change since the garment's last update over this step,
+/// so a garment updated every n-th frame feels the whole change once. A garment that slept or
+/// waited longer than any step was carried rigidly meanwhile: it feels no change from before.
+void setInertialForces(GarmentInstance& g, const CharacterInstance& c, const Vec3& gravity, double sinceUpdate,
+                       double longestStep);
 
 } // namespace cc::detail

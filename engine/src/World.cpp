@@ -128,6 +128,13 @@ Result<ClothAssetDesc> World::garmentFit(GarmentId id) const {
 }
 const FrameStats& World::frameStats() const { return impl(this).frameStats(); }
 std::string World::statsJson() const { return impl(this).statsJson(); }
+Status World::setShadowCheck(const ShadowCheckDesc& desc) {
+    if (Status s = outsideStep(this, "setShadowCheck"); !s) return s;
+    return impl(this).setShadowCheck(desc);
+}
+
+const std::vector<ShadowCheckResult>& World::shadowCheckResults() const { return impl(this).shadowCheckResults(); }
+
 uint64_t World::stateHash() const { return impl(this).stateHash(); }
 
 Result<std::vector<uint8_t>> World::saveState() const {

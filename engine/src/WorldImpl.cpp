@@ -80,31 +80,6 @@ Status checkPlaybackRate(const char* what, double rate) {
 constexpr double kTeleportSpeed = 100.0;          ///< [m/s]
 constexpr double kTeleportYawRate = 4.0 * 2.0 * kPi;  ///< [rad/s] four turns a second
 
-/// Garments simulate in their character's frame, which moves with the root and turns about +Y:
-/// gravity less the root's acceleration, and the turning frame's Coriolis, centrifugal and Euler
-/// forces (applied by the solver), act on the cloth, scaled by the garment's inertia scale. The
-/// accelerations are the root velocity's change since the garment's last update over this step,
-/// so a garment updated every n-th frame feels the whole change once. A garment that slept or
-/// waited longer than any step was carried rigidly meanwhile: it feels no change from before.
-void setInertialForces(GarmentInstance& g, const CharacterInstance& c, const Vec3& gravity, double sinceUpdate,
-                       double longestStep) {
-    GarmentUpdateContext& context = g.context;
-    const double h = context.dt;
-    const bool resumed = sinceUpdate > longestStep * (1.0 + 1e-9);
-    const Vec3 velocityChange = resumed ? Vec3::Zero() : Vec3(c.velocity - g.lastRootVelocity);
-    const double yawRateChange = resumed ? 0.0 : c.yawRate - g.lastYawRate;
-    const double s = g.inertiaScale();
-    // Into the frame at its mean heading over the step (the velocity change turned with it).
-    const double meanYaw = c.yaw - 0.5 * h * (c.yawRate - 0.5 * yawRateChange);
-    const Mat3 toLocal = Eigen::AngleAxisd(-meanYaw, Vec3::UnitY()).toRotationMatrix();
-    context.acceleration = toLocal * (gravity - s * velocityChange / h);
-    context.angularVelocity = Vec3(0.0, c.yawRate - 0.5 * yawRateChange, 0.0);  // mean over the step
-    context.angularAcceleration = Vec3(0.0, yawRateChange / h, 0.0);
-    g.lastRootVelocity = c.velocity;
-    g.lastYawRate = c.yawRate;
-}
-
-
 } // namespace
 
 WorldImpl::WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device)
@@ -491,6 +466,7 @@ Status WorldImpl::beginStep(double dt) {
     });
     if (!missing) return missing;
     mTime += dt;
+    mStepDt = dt;
     mCharacters.forEach([&](auto, CharacterInstance& c) {
         c.clipTime += dt * c.playbackRate;
         c.speed = (c.position - c.previousPosition).norm() / dt;
@@ -760,6 +736,19 @@ Status WorldImpl::endStep() {
     if (!mDesc.fixedCostModel && fs.totalMs > 0.0) {
         const double step = fs.totalMs <= mDesc.frameBudgetMs ? kBudgetStep : -kOverBudgetWeight * kBudgetStep;
         mBudgetScale = std::clamp(mBudgetScale * std::exp(step), kMinBudgetScale, kMaxBudgetScale);
+    }
+    // 6. The shadow check, after the frame's time is taken: a measurement, not part of the frame.
+    if (mShadow.enabled()) {
+        ShadowFrame frame;
+        frame.time = mTime;
+        frame.dt = mStepDt;
+        frame.longestStep = mStepDt * mDesc.maxUpdateInterval;
+        frame.gravity = Vec3(mDesc.gravity[0], mDesc.gravity[1], mDesc.gravity[2]);
+        frame.strainLimit = mDesc.strainLimit;
+        frame.selfCollision = mDesc.selfCollision;
+        frame.device = mDevice.get();
+        frame.cameras = Span<const lod::SchedulerCamera>(mCameras.data(), mCameras.size());
+        mShadow.step(frame, Span<const GarmentRef>(mItems.data(), mItems.size()));
     }
     return Status::ok();
 }

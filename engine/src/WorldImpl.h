@@ -10,6 +10,7 @@
 #include "CookedAsset.h"
 #include "GarmentInstance.h"
 #include "HandlePool.h"
+#include "ShadowCheck.h"
 #include "TaskPool.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/collision/CollisionDevice.h"
@@ -49,6 +50,8 @@ public:
     bool nextStepPhase();
     Status endStep();
     bool stepOpen() const { return mStepPhase != StepPhase::Idle; }  ///< between beginStep and endStep
+    Status setShadowCheck(const ShadowCheckDesc& desc) { return mShadow.configure(desc); }
+    const std::vector<ShadowCheckResult>& shadowCheckResults() const { return mShadow.results(); }
     Result<RenderMeshView> renderMesh(GarmentId id) const;
     Result<GarmentStats> garmentStats(GarmentId id) const;
     Result<RenderMeshView> characterMesh(CharacterId id);
@@ -84,11 +87,7 @@ private:
     /// The design's asset fitted to `body`, cooked on first use.
     Result<AssetId> fittedAsset(DesignRecord& design, const std::shared_ptr<const BodyAsset>& body);
     /// One garment's slot in this frame's work lists.
-    struct FrameItem {
-        GarmentId id;
-        GarmentInstance* garment;
-        CharacterInstance* character;
-    };
+    using FrameItem = GarmentRef;
 
     /// Garments stepped together: one asset, level, factor and settings; ordered by id.
     struct Batch {
@@ -135,6 +134,8 @@ private:
     std::vector<lod::SchedulerCamera> mCameras;
     FrameStats mFrameStats;
     double mTime = 0.0;
+    double mStepDt = 0.0;  ///< [s] the open (or last) step's dt
+    ShadowCheck mShadow;
     double mBudgetScale = 1.0;  ///< closed-loop share of the nominal CPU budget (learned costs)
     /// Where an open step stands: Prepare and Simulate are phases of concurrent tasks (bodies and
     /// contacts per garment, then solver batches); the batches are formed between them, serially.

@@ -295,6 +295,21 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     return Status::ok();
 }
 
+Result<std::unique_ptr<GarmentInstance>> GarmentInstance::clone(CharacterInstance& character) const {
+    GarmentDesc desc;
+    desc.importance = mImportance;
+    desc.inertiaScale = mInertiaScale;
+    desc.forceLevel = mForceLevel;
+    auto made = create(mAsset, mAssetIndex, character, mCharacterId, desc);
+    if (!made.isOk()) return made.status();
+    SnapshotWriter out;
+    saveState(out);
+    SnapshotReader in(out.bytes().data(), out.bytes().size());
+    if (Status s = made.value()->restoreState(in); !s) return s;
+    if (!in.ok()) return Status::error(StatusCode::InvalidOperation, "clone: " + in.error());
+    return made;
+}
+
 Result<std::vector<uint8_t>> WorldImpl::saveState() const {
     SnapshotWriter w;
     w.tag("WDSC");
@@ -582,6 +597,7 @@ Status WorldImpl::restoreState(const void* data, std::size_t size, RestoreMode m
         if (list.size() > spares[b]) list.resize(spares[b]);
         for (auto& made : newSpares[b]) list.push_back(std::move(made));
     }
+    mShadow.clear();  // its windows follow garments the snapshot replaces
     mCharacters = std::move(characters);
     mGarments = std::move(garments);
     mTime = time;

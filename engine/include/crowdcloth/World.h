@@ -258,6 +258,34 @@ struct FrameStats {
     uint32_t threads = 1;
 };
 
+/// The shadow check (World::setShadowCheck): what the scheduler predicts, measured. A few visible
+/// garments at a time are also stepped, from the state they are in after an update, at their
+/// asset's finest level against the body mesh with continuous tests, under the reference effort;
+/// after a window the garment's render mesh as shown is compared with the reference's on every
+/// camera. Costs a reference solve per checked garment per frame, run after the frame's stats are
+/// taken (outside the budget and FrameStats::totalMs); the crowd's own results do not change.
+struct ShadowCheckDesc {
+    uint32_t garments = 0;        ///< [-] windows running at once; 0 = off; [0, 64]
+    double windowSeconds = 0.25;  ///< [s] how long each garment is followed; [0.05, 2]
+    uint32_t substeps = 16;       ///< [-] the reference's substeps per frame; [1, 64]
+    uint32_t iterations = 8;      ///< [-] its iterations per substep; [1, 100]
+    Status validate() const;
+};
+
+/// One window of the shadow check, at its end.
+struct ShadowCheckResult {
+    GarmentId garment{};
+    int32_t level = -1;               ///< the garment's level at the window's end
+    int32_t referenceLevel = -1;      ///< the level the reference ran at (the asset's finest)
+    uint32_t updateInterval = 1;      ///< [frames] the garment's at the window's end
+    double screenRadiusPx = 0.0;      ///< [px] the garment's projected radius at the end
+    double predictedErrorPx = 0.0;    ///< [px] the scheduler's prediction at the end
+    double measuredErrorPx = 0.0;     ///< [px] largest on-screen distance of a render vertex from
+                                      ///< the reference's, over every camera
+    double measuredRmsMetres = 0.0;   ///< [m] render vertex distances, root mean square
+    double measuredMaxMetres = 0.0;   ///< [m] and largest
+};
+
 /// What a restoreState may change of the saved run.
 enum class RestoreMode : uint32_t {
     Continue = 0,     ///< the World's desc is the saved one's: the run continues bit for bit
@@ -381,6 +409,13 @@ public:
     std::string statsJson() const;
     /// Bitwise digest of every garment's simulated state, for determinism tests and replays.
     uint64_t stateHash() const;
+
+    /// Turns the shadow check on (desc.garments > 0), changes it, or off; windows running are
+    /// dropped. Not saved in snapshots; a restore drops running windows.
+    Status setShadowCheck(const ShadowCheckDesc& desc);
+    /// Windows the last step completed (valid until the next step). A window whose garment was
+    /// removed, failed or whose reference failed is dropped without a result.
+    const std::vector<ShadowCheckResult>& shadowCheckResults() const;
 
     /// Everything that carries from one frame to the next, as bytes (a save game, a replay's
     /// checkpoint, a host's rollback): characters and garments with their handles, clocks,

@@ -1,0 +1,147 @@
+// The shadow check (World::setShadowCheck): a measurement of the scheduler's error that must read
+// zero where the garment already runs as the reference does, more where it runs coarser, and
+// change nothing in the crowd it measures.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "crowdcloth/World.h"
+#include "support/CrowdScenes.h"
+#include "support/WorldPtr.h"
+
+namespace cc {
+namespace {
+
+constexpr double kDt = 1.0 / 60.0;
+
+/// The reference effort, as ShadowCheckDesc's defaults.
+ShadowCheckDesc referenceCheck(uint32_t garments) {
+    ShadowCheckDesc check;
+    check.garments = garments;
+    return check;
+}
+
+struct CheckedRun {
+    std::vector<ShadowCheckResult> results;
+    uint64_t hash = 0;
+    int levels = 0;  ///< the asset's level count
+};
+
+/// `count` capes on mannequins walking at `speed` m/s (continuous tests against the body from
+/// 1.5 m/s), a camera 2.5 m behind the first; the shadow check from frame 30 when `check` has
+/// garments. `forceLevel` -1 schedules the levels; `effort` sets the World's at the finest level.
+CheckedRun walk(int count, double speed, int forceLevel, uint32_t substeps, uint32_t iterations, const ShadowCheckDesc& check,
+         int frames = 120) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    desc.maxThreads = 1;
+    desc.substeps = substeps;
+    desc.solverIterations = iterations;
+    test::WorldPtr world(World::create(desc).value());
+    ClothAssetDesc cape;
+    cape.levelCount = 3;
+    const AssetId asset = world->addClothAsset(cape).value();
+    test::WalkingCrowd crowd = test::addWalkingCrowd(*world, asset, count);
+    crowd.speed = speed;
+    if (forceLevel >= 0) {
+        for (GarmentId g : crowd.garments) EXPECT_TRUE(world->setGarmentLevel(g, forceLevel).isOk());
+    }
+    CheckedRun run;
+    run.levels = int(cape.levelCount);
+    for (int frame = 1; frame <= frames; ++frame) {
+        if (frame == 30) {
+            const Status s = world->setShadowCheck(check);
+            EXPECT_TRUE(s.isOk()) << s.message();
+        }
+        test::walkCrowd(*world, crowd, frame * kDt);
+        const Vec3 chest = crowd.starts[0] + Vec3(0, 1.2, crowd.speed * frame * kDt);
+        const CameraDesc camera = test::cameraLookingAt(chest + Vec3(-0.3, 0.2, -2.5), chest);
+        EXPECT_TRUE(world->setCameras(&camera, 1).isOk());
+        const Status s = world->step(kDt);
+        EXPECT_TRUE(s.isOk()) << s.message();
+        const auto& results = world->shadowCheckResults();
+        run.results.insert(run.results.end(), results.begin(), results.end());
+    }
+    run.hash = world->stateHash();
+    return run;
+}
+
+TEST(ShadowCheck, AGarmentRunAsTheReferenceMeasuresNoErrorAndACoarseOneSome) {
+    // Finest level, the reference's effort, continuous tests (running at 2 m/s): the garment is
+    // the reference, the window must read zero. Level 0 at the World's default effort must not.
+    const CheckedRun same = walk(1, 2.0, 2, 16, 8, referenceCheck(1));
+    const CheckedRun coarse = walk(1, 2.0, 0, 4, 4, referenceCheck(1));
+    ASSERT_GE(same.results.size(), 4u) << "15-frame windows over 90 frames";
+    ASSERT_EQ(coarse.results.size(), same.results.size());
+    for (const ShadowCheckResult& r : same.results) {
+        EXPECT_EQ(r.level, 2);
+        EXPECT_EQ(r.referenceLevel, 2);
+        EXPECT_EQ(r.updateInterval, 1u);
+        EXPECT_EQ(r.measuredMaxMetres, 0.0);  // bit for bit: the same solve on the same body
+        EXPECT_EQ(r.measuredErrorPx, 0.0);
+    }
+    double worst = 0.0;
+    for (const ShadowCheckResult& r : coarse.results) {
+        EXPECT_EQ(r.level, 0);
+        EXPECT_EQ(r.referenceLevel, 2);
+        EXPECT_TRUE(std::isfinite(r.measuredErrorPx));
+        // Pixels and metres agree: a camera 2.5 m away sees 720 / (2 x 2.5 tan 30 deg) = 249 px
+        // per metre face-on; no vertex moves further on screen than that allows (with the near
+        // side of the cape 2 m away, 1.3x).
+        EXPECT_LE(r.measuredErrorPx, 1.3 * 249.0 * r.measuredMaxMetres + 1e-9);
+        worst = std::max(worst, r.measuredMaxMetres);
+    }
+    EXPECT_GT(worst, 1e-3) << "the coarsest level of a running cape is within a millimetre of the finest";
+}
+
+TEST(ShadowCheck, TheCrowdItMeasuresRunsBitForBitAsWithoutIt) {
+    const CheckedRun off = walk(6, 1.2, -1, 4, 4, referenceCheck(0), 90);
+    const CheckedRun on = walk(6, 1.2, -1, 4, 4, referenceCheck(3), 90);
+    EXPECT_TRUE(off.results.empty());
+    EXPECT_GE(on.results.size(), 6u);
+    EXPECT_EQ(on.hash, off.hash);
+    // Round robin: more than one garment checked.
+    std::vector<uint32_t> checked;
+    for (const ShadowCheckResult& r : on.results) checked.push_back(r.garment.index1);
+    std::sort(checked.begin(), checked.end());
+    EXPECT_GT(std::unique(checked.begin(), checked.end()) - checked.begin(), 1);
+}
+
+TEST(ShadowCheck, AbsurdSettingsAreRefusedNamingTheField) {
+    test::WorldPtr world(World::create({}).value());
+    const std::pair<ShadowCheckDesc, const char*> bad[] = {
+        {[] { ShadowCheckDesc d; d.garments = 65; return d; }(), "garments"},
+        {[] { ShadowCheckDesc d; d.windowSeconds = std::nan(""); return d; }(), "windowSeconds"},
+        {[] { ShadowCheckDesc d; d.windowSeconds = 0.0; return d; }(), "windowSeconds"},
+        {[] { ShadowCheckDesc d; d.substeps = 0; return d; }(), "substeps"},
+        {[] { ShadowCheckDesc d; d.iterations = 101; return d; }(), "iterations"},
+    };
+    for (const auto& [desc, field] : bad) {
+        const Status s = world->setShadowCheck(desc);
+        EXPECT_FALSE(s.isOk()) << field;
+        EXPECT_NE(s.message().find(field), std::string::npos) << s.message();
+    }
+    EXPECT_TRUE(world->setShadowCheck(referenceCheck(2)).isOk());
+}
+
+TEST(ShadowCheck, AGarmentRemovedMidWindowIsDroppedWithoutAResult) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    test::WorldPtr world(World::create(desc).value());
+    const test::WalkingCrowd crowd = test::addWalkingCrowd(*world, world->addClothAsset({}).value(), 1);
+    const CameraDesc camera = test::cameraLookingAt(Vec3(-0.3, 1.4, -2.5), Vec3(0, 1.2, 0));
+    ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
+    ASSERT_TRUE(world->setShadowCheck(referenceCheck(1)).isOk());
+    ASSERT_TRUE(world->step(kDt).isOk());  // a window starts on the garment just updated
+    ASSERT_TRUE(world->removeGarment(crowd.garments[0]).isOk());
+    for (int frame = 0; frame < 30; ++frame) {
+        ASSERT_TRUE(world->step(kDt).isOk());
+        EXPECT_TRUE(world->shadowCheckResults().empty());
+    }
+}
+
+} // namespace
+} // namespace cc
