@@ -78,6 +78,10 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
     app.add_option("--threads", o.threads, "Threads stepping garments (0 = all)")->check(CLI::Range(0, 1024));
     auto* scaling = app.add_flag("--scaling", o.scaling, "Study: crowd scaling 10 -> 1000 characters, with LOD "
                                                          "and at full resolution, and 1 -> 2 threads");
+    app.add_option("--shadow", o.shadow, "With --scaling: garments the World's shadow check steps at once beside "
+                                         "the crowd at the reference (their screen error measured, not predicted; "
+                                         "0 = off)")
+        ->check(CLI::Range(0, 64));
     auto* tradeoff = app.add_flag("--tradeoff", o.tradeoff, "Study: speed against accuracy (levels, substeps, "
                                                             "iterations, strain limit) in windows restarted from a converged "
                                                             "reference; OUT/tradeoff.csv and tradeoff.png (--seconds: run length)");

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -15,12 +16,52 @@ struct RunResult {
     double vertexUpdates = 0.0;  ///< mean simulated vertices updated per frame
     double withinTolerance = 0.0;  ///< fraction of visible garment-frames predicted within the tolerance
     uint32_t failed = 0;
+    std::vector<cc::ShadowCheckResult> shadow;  ///< the shadow check's windows after the warm-up
     bool ok = true;
 };
 
-RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs) {
+/// The shadow check's windows against the tolerance: the BAR's measured share, and the
+/// scheduler's prediction for the same windows beside it.
+struct ShadowSummary {
+    std::size_t windows = 0, garments = 0;
+    double withinMeasured = 0.0, withinPredicted = 0.0;
+    double medianPx = 0.0, p95Px = 0.0, medianPredictedPx = 0.0;
+};
+
+ShadowSummary summarise(const std::vector<cc::ShadowCheckResult>& results, double tolerancePx) {
+    ShadowSummary s;
+    s.windows = results.size();
+    if (results.empty()) return s;
+    std::vector<double> measured, predicted;
+    std::vector<uint32_t> garments;
+    for (const cc::ShadowCheckResult& r : results) {
+        measured.push_back(r.measuredErrorPx);
+        predicted.push_back(r.predictedErrorPx);
+        garments.push_back(r.garment.index1);
+        s.withinMeasured += r.measuredErrorPx <= tolerancePx;
+        s.withinPredicted += r.predictedErrorPx <= tolerancePx;
+    }
+    std::sort(garments.begin(), garments.end());
+    s.garments = std::size_t(std::unique(garments.begin(), garments.end()) - garments.begin());
+    s.withinMeasured /= double(results.size());
+    s.withinPredicted /= double(results.size());
+    s.medianPx = percentile(measured, 0.5);
+    s.p95Px = percentile(measured, 0.95);
+    s.medianPredictedPx = percentile(predicted, 0.5);
+    return s;
+}
+
+RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs,
+                   uint32_t shadowGarments = 0) {
     RunResult result;
     WorldPtr world(cc::World::create(desc).value());
+    cc::ShadowCheckDesc shadow;
+    shadow.garments = shadowGarments;
+    if (cc::Status s = world->setShadowCheck(shadow); !s) {
+        std::fprintf(stderr, "shadow check: %s\n", s.message().c_str());
+        result.ok = false;
+        return result;
+    }
     PlazaSettings ps;
     ps.characters = characters;
     auto plaza = Plaza::create(*world, ps);
@@ -42,6 +83,8 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
         const cc::FrameStats& fs = world->frameStats();
         result.failed += fs.failed;
         if (f <= warmup) continue;
+        const auto& windows = world->shadowCheckResults();
+        result.shadow.insert(result.shadow.end(), windows.begin(), windows.end());
         ++measured;
         result.frameMs.push_back(fs.totalMs);
         for (int l = 0; l < 16; ++l) result.perLevelMean[l] += fs.garmentsPerLevel[l];
@@ -71,7 +114,7 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
 
 } // namespace
 
-int runScaling(double budgetMs, int threadCount) {
+int runScaling(double budgetMs, int threadCount, int shadowGarments) {
     std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads\n", budgetMs,
                 threadCount > 0 ? std::to_string(threadCount).c_str() : "all");
     std::printf("%-10s %-6s %10s %10s %8s %8s %8s  %s\n", "characters", "mode", "median ms", "p99 ms", "updated",
@@ -89,15 +132,26 @@ int runScaling(double budgetMs, int threadCount) {
             desc.maxThreads = uint32_t(threadCount);
             desc.frameBudgetMs = budgetMs;
             if (full) useFullResolution(desc);
-            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
+            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9,
+                                         full ? 0u : uint32_t(shadowGarments));
             if (!r.ok) return 1;
             const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
             std::printf("%-10d %-6s %10.2f %10.2f %8.1f %8.1f %8.2f  %.1f %.1f %.1f %.1f %.1f%s\n", n,
                         full ? "full" : "lod", median, p99, r.meanUpdated, r.meanAsleep, r.maxErrorPx,
                         r.perLevelMean[0], r.perLevelMean[1], r.perLevelMean[2], r.perLevelMean[3],
                         r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
-            std::printf("BAR crowd chars=%d median_ms=%.2f p99_ms=%.2f vertex_updates_per_frame=%.0f within_1px=%.3f mode=%s\n",
-                        n, median, p99, r.vertexUpdates, r.withinTolerance, full ? "full" : "lod");
+            const ShadowSummary shadow = summarise(r.shadow, desc.pixelTolerance);
+            if (shadow.windows > 0)
+                std::printf("%-10s shadow check: %zu windows on %zu garments, measured px median %.2f p95 %.2f "
+                            "(predicted median %.2f); within %.1f px: measured %.3f, predicted %.3f\n",
+                            "", shadow.windows, shadow.garments, shadow.medianPx, shadow.p95Px,
+                            shadow.medianPredictedPx, desc.pixelTolerance, shadow.withinMeasured,
+                            shadow.withinPredicted);
+            std::printf("BAR crowd chars=%d median_ms=%.2f p99_ms=%.2f vertex_updates_per_frame=%.0f within_1px=%.3f",
+                        n, median, p99, r.vertexUpdates, r.withinTolerance);
+            if (shadow.windows > 0)
+                std::printf(" within_1px_measured=%.3f shadow_windows=%zu", shadow.withinMeasured, shadow.windows);
+            std::printf(" mode=%s\n", full ? "full" : "lod");
             std::fflush(stdout);
             if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
             if (full && p99 > 16.7) fullStillFits = false;

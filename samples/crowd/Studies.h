@@ -36,7 +36,9 @@ inline void useFullResolution(cc::WorldDesc& desc) {
 }
 
 /// Crowd scaling: 10 -> 1000 characters with LOD and at full resolution, and 1 -> 2 threads.
-int runScaling(double budgetMs, int threads);
+/// With `shadowGarments` > 0 the LOD runs also run the World's shadow check on that many garments at
+/// once and print the measured share of windows within the tolerance (BAR within_1px_measured).
+int runScaling(double budgetMs, int threads, int shadowGarments);
 /// Speed against accuracy: levels, substeps, iterations and strain limit against a converged
 /// reference in restarted windows (Tradeoff.cpp); writes tradeoff.csv and tradeoff.png into outDir.
 int runTradeoff(const std::string& outDir, double seconds);
