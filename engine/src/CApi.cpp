@@ -91,6 +91,7 @@ CC_CHECK_FIELDS(garment, CC_GARMENT_FIELDS, cc_garment_desc, cc::GarmentDesc, 1)
 CC_CHECK_FIELDS(camera, CC_CAMERA_FIELDS, cc_camera_desc, cc::CameraDesc, 1)
 CC_CHECK_FIELDS(render_mesh, CC_RENDER_MESH_FIELDS, cc_render_mesh, cc::RenderMeshView, 0)
 CC_CHECK_FIELDS(garment_stats, CC_GARMENT_STATS_FIELDS, cc_garment_stats, cc::GarmentStats, 0)
+CC_CHECK_FIELDS(shadow_result, CC_SHADOW_RESULT_FIELDS, cc_shadow_check_result, cc::ShadowCheckResult, 0)
 CC_CHECK_FIELDS(frame_stats, CC_FRAME_STATS_FIELDS, cc_frame_stats, cc::FrameStats, 0)
 
 #define CC_TO_C(c, cpp) cc::detail::copyField(d->c, x.cpp);
@@ -410,6 +411,33 @@ cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garm
         }
         return report(w, stats.status());
     });
+}
+
+cc_status cc_world_set_shadow_check(cc_world* w, uint32_t garments, double window_seconds, uint32_t substeps,
+                                    uint32_t iterations, int32_t self_check) {
+    CC_CHECK_WORLD(w);
+    cc::ShadowCheckDesc desc;
+    desc.garments = garments;
+    desc.windowSeconds = window_seconds;
+    desc.substeps = substeps;
+    desc.iterations = iterations;
+    desc.selfCheck = self_check != 0;
+    return guarded(w, [&] { return report(w, w->world->setShadowCheck(desc)); });
+}
+
+cc_status cc_world_get_shadow_check_results(const cc_world* w, cc_shadow_check_result* out, uint32_t capacity,
+                                            uint32_t* out_count) {
+    CC_CHECK_WORLD(w);
+    CC_CHECK_OUT(w, out_count, "out_count");
+    if (capacity > 0 && !out) return fail(w, CC_INVALID_ARGUMENT, "out_results is null");
+    const auto& results = w->world->shadowCheckResults();
+    *out_count = uint32_t(results.size());
+    for (uint32_t k = 0; k < capacity && k < results.size(); ++k) {
+        const cc::ShadowCheckResult& x = results[k];
+        cc_shadow_check_result* d = out + k;
+        CC_SHADOW_RESULT_FIELDS(CC_TO_C)
+    }
+    return CC_OK;
 }
 
 cc_status cc_world_get_frame_stats(const cc_world* w, cc_frame_stats* out) {

@@ -60,6 +60,12 @@
                     X(predicted_error_px, predictedErrorPx) X(predicted_ms, predictedMs)           \
                         X(measured_ms, measuredMs) X(collision_ms, collisionMs)                    \
                             X(max_strain, maxStrain) X(max_attachment_error, maxAttachmentError)
+#define CC_SHADOW_RESULT_FIELDS(X)                                                                 \
+    X(garment, garment)                                                                            \
+    X(level, level) X(reference_level, referenceLevel) X(update_interval, updateInterval)          \
+        X(screen_radius_px, screenRadiusPx) X(predicted_error_px, predictedErrorPx)                \
+            X(measured_error_px, measuredErrorPx) X(measured_rms_metres, measuredRmsMetres)        \
+                X(measured_max_metres, measuredMaxMetres) X(reference_check_px, referenceCheckPx)
 #define CC_FRAME_STATS_FIELDS(X)                                                                   \
     X(frame, frame)                                                                                \
     X(schedule_ms, scheduleMs) X(simulate_ms, simulateMs) X(total_ms, totalMs)                     \

@@ -11,7 +11,7 @@ Status ShadowCheckDesc::validate() const {
     if (garments > 64) return Status::invalidArgument("ShadowCheckDesc.garments must be in [0, 64]");
     if (!(windowSeconds >= 0.05 && windowSeconds <= 2.0))
         return Status::invalidArgument("ShadowCheckDesc.windowSeconds must be in [0.05, 2] s");
-    if (substeps < 1 || substeps > 64) return Status::invalidArgument("ShadowCheckDesc.substeps must be in [1, 64]");
+    if (substeps < 2 || substeps > 64) return Status::invalidArgument("ShadowCheckDesc.substeps must be in [2, 64]");
     if (iterations < 1 || iterations > 100)
         return Status::invalidArgument("ShadowCheckDesc.iterations must be in [1, 100]");
     return Status::ok();
@@ -28,7 +28,7 @@ Status ShadowCheck::configure(const ShadowCheckDesc& desc) {
 }
 
 void ShadowCheck::clear() {
-    for (Window& w : mWindows) w.copy.reset();
+    for (Window& w : mWindows) w.copy.reset(), w.twin.reset();
     mResults.clear();
 }
 
@@ -51,6 +51,7 @@ bool ShadowCheck::start(Window& w, const GarmentRef& item, const ShadowFrame& fr
     copy->switchLevel(int(copy->asset().levels.size()) - 1);
     copy->schedule.level = copy->level();
     copy->schedule.updateInterval = 1;
+    copy->context.selfCollision = frame.selfCollision && garment.schedule.selfCollision;
 
     // Its own body collider: the character's is moved at the times its garments update, which the
     // copy must not change.
@@ -66,40 +67,51 @@ bool ShadowCheck::start(Window& w, const GarmentRef& item, const ShadowFrame& fr
         w.topology = character.bodyTopology;
     }
     w.colliderTime = frame.time;
+    w.twin.reset();
+    if (mDesc.selfCheck) {
+        auto twin = copy->clone(character);
+        if (!twin.isOk()) return false;
+        w.twin = std::move(twin).value();
+        w.twin->context.selfCollision = copy->context.selfCollision;
+    }
     w.id = item.id;
+    copy->context.collider = w.collider.get();
+    if (w.twin) w.twin->context.collider = w.collider.get();
     w.copy = std::move(copy);
-    w.selfCollision = frame.selfCollision && garment.schedule.selfCollision;
     w.framesLeft = std::max(1, int(std::lround(mDesc.windowSeconds / frame.dt)));
     return true;
 }
 
 bool ShadowCheck::advance(Window& w, CharacterInstance& character, const ShadowFrame& frame) {
-    GarmentInstance& copy = *w.copy;
-    copy.advanceFrame();
     if (Status s = character.updateSkin(); !s) return false;
     // Moved over the time between the world's clock readings, as the character's own collider
     // is (not frame.dt: the clock's sums differ from it in the last bits).
     if (!w.collider->update(character.skinnedPositions, frame.time - w.colliderTime)) return false;
     w.colliderTime = frame.time;
+    if (!stepCopy(*w.copy, w.workspace, int(mDesc.substeps), character, frame)) return false;
+    return !w.twin || stepCopy(*w.twin, w.workspace, std::max(1, int(mDesc.substeps) / 2), character, frame);
+}
+
+bool ShadowCheck::stepCopy(GarmentInstance& copy, cloth::SubstepWorkspace& workspace, int substeps,
+                           CharacterInstance& character, const ShadowFrame& frame) {
+    copy.advanceFrame();
     GarmentUpdateContext& context = copy.context;
     context.dt = frame.dt;
     context.carried = 0.0;
-    context.collider = w.collider.get();
     context.continuous = true;
     context.proxies = false;
-    context.selfCollision = w.selfCollision;
     setInertialForces(copy, character, frame.gravity, frame.time - copy.lastUpdateTime, frame.longestStep);
 
     const CookedAsset& asset = copy.asset();
     cloth::SubstepSettings settings;
     settings.method = cloth::SubstepMethod::Newton;
-    settings.substeps = int(mDesc.substeps);
+    settings.substeps = substeps;
     settings.iterations = int(mDesc.iterations);
     settings.strainLimit = frame.strainLimit;
     settings.contactThickness = asset.desc.thickness;
     settings.compressionStiffness = asset.desc.compressionStiffness;
     settings.friction = cloth::Friction{asset.desc.friction, 0.8 * asset.desc.friction};
-    auto factor = factorFor(asset, frame.dt / double(mDesc.substeps));
+    auto factor = factorFor(asset, frame.dt / double(substeps));
     if (!factor.isOk()) return false;
 
     GarmentUpdateReport report;
@@ -107,7 +119,7 @@ bool ShadowCheck::advance(Window& w, CharacterInstance& character, const ShadowF
     const cloth::SubstepLane lane = copy.lane();
     cloth::SubstepLaneReport laneReport;
     const Status solved = cloth::stepSubsteps(*copy.cookedLevel().cloth, *factor.value(), frame.dt, settings,
-                                              Span<const cloth::SubstepLane>(&lane, 1), w.workspace,
+                                              Span<const cloth::SubstepLane>(&lane, 1), workspace,
                                               Span<cloth::SubstepLaneReport>(&laneReport, 1));
     if (!solved || !laneReport.status) return false;
     if (!copy.finish(settings, report)) return false;
@@ -131,10 +143,19 @@ void ShadowCheck::measure(const Window& w, GarmentInstance& garment, const Chara
     const lod::MeshDeviation metres = lod::meshDeviation(shown.positions, reference.positions, shown.vertexCount);
     r.measuredRmsMetres = metres.rmsMetres;
     r.measuredMaxMetres = metres.maxMetres;
-    for (const lod::SchedulerCamera& camera : frame.cameras)
-        r.measuredErrorPx = std::max(
-            r.measuredErrorPx,
-            lod::meshDeviation(shown.positions, reference.positions, shown.vertexCount, &camera).maxPixels);
+    auto pixels = [&](const float* a, const float* b) {
+        double worst = 0.0;
+        for (const lod::SchedulerCamera& camera : frame.cameras)
+            worst = std::max(worst, lod::meshDeviation(a, b, shown.vertexCount, &camera).maxPixels);
+        return worst;
+    };
+    r.measuredErrorPx = pixels(shown.positions, reference.positions);
+    if (w.twin) {
+        w.twin->publish(character);
+        r.referenceCheckPx = pixels(w.twin->renderView().positions, reference.positions);
+    } else {
+        r.referenceCheckPx = -1.0;
+    }
     mResults.push_back(r);
 }
 
@@ -151,12 +172,12 @@ void ShadowCheck::step(const ShadowFrame& frame, Span<const GarmentRef> items) {
         if (!w.copy) continue;
         const GarmentRef* item = find(w.id);
         if (!item || item->garment->stats.failed || !advance(w, *item->character, frame)) {
-            w.copy.reset();  // its garment went or failed, or the reference did: no result
+            w.copy.reset(), w.twin.reset();  // its garment went or failed, or a reference did: no result
             continue;
         }
         if (--w.framesLeft > 0) continue;
         measure(w, *item->garment, *item->character, frame);
-        w.copy.reset();
+        w.copy.reset(), w.twin.reset();
     }
     // 2. Free windows start on garments updated and seen this frame, the next handles after the
     //    last one started (round robin: every visible garment is sampled in turn).
@@ -179,7 +200,7 @@ void ShadowCheck::step(const ShadowFrame& frame, Span<const GarmentRef> items) {
                 if (eligible(item) && (!next || item.id.index1 < next->id.index1)) next = &item;
         if (!next) break;
         mCursor = next->id.index1;
-        if (!start(w, *next, frame)) w.copy.reset();
+        if (!start(w, *next, frame)) w.copy.reset(), w.twin.reset();
     }
 }
 

@@ -52,20 +52,23 @@ public:
 private:
     struct Window {
         GarmentId id{};
-        std::unique_ptr<GarmentInstance> copy;
+        std::unique_ptr<GarmentInstance> copy;  ///< the reference
+        std::unique_ptr<GarmentInstance> twin;  ///< its check: half the substeps (null without selfCheck)
         int framesLeft = 0;
-        bool selfCollision = false;
         std::shared_ptr<const collision::BodyTopology> topology;  ///< of the collider below
         std::unique_ptr<collision::BodyCollider> collider;        ///< kept between windows
         double colliderTime = 0.0;  ///< [s] world time of the collider's pose
         cloth::SubstepWorkspace workspace;
     };
+    /// One frame's update of a copy at `substeps` x the reference's iterations; false if it failed.
+    bool stepCopy(GarmentInstance& copy, cloth::SubstepWorkspace& workspace, int substeps, CharacterInstance& character,
+                  const ShadowFrame& frame);
     struct CachedFactor {
         const CookedAsset* asset;
         double substep;
         std::shared_ptr<const cloth::SubstepFactor> factor;
     };
-    /// Steps a window's copy by one frame; false if it failed.
+    /// Steps a window's copies by one frame; false if one failed.
     bool advance(Window& w, CharacterInstance& character, const ShadowFrame& frame);
     bool start(Window& w, const GarmentRef& item, const ShadowFrame& frame);
     void measure(const Window& w, GarmentInstance& garment, const CharacterInstance& character,

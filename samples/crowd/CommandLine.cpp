@@ -82,6 +82,9 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
                                          "the crowd at the reference (their screen error measured, not predicted; "
                                          "0 = off)")
         ->check(CLI::Range(0, 64));
+    app.add_option("--shadow-window", o.shadowWindow, "With --scaling: seconds each garment is followed by the "
+                                                      "shadow check")
+        ->check(CLI::Range(0.05, 2.0));
     auto* tradeoff = app.add_flag("--tradeoff", o.tradeoff, "Study: speed against accuracy (levels, substeps, "
                                                             "iterations, strain limit) in windows restarted from a converged "
                                                             "reference; OUT/tradeoff.csv and tradeoff.png (--seconds: run length)");

@@ -25,14 +25,15 @@ struct RunResult {
 struct ShadowSummary {
     std::size_t windows = 0, garments = 0;
     double withinMeasured = 0.0, withinPredicted = 0.0;
-    double medianPx = 0.0, p95Px = 0.0, medianPredictedPx = 0.0;
+    double referenceWithin = 0.0;  ///< share whose reference is within the tolerance of its own check
+    double medianPx = 0.0, p95Px = 0.0, medianPredictedPx = 0.0, medianReferencePx = 0.0;
 };
 
 ShadowSummary summarise(const std::vector<cc::ShadowCheckResult>& results, double tolerancePx) {
     ShadowSummary s;
     s.windows = results.size();
     if (results.empty()) return s;
-    std::vector<double> measured, predicted;
+    std::vector<double> measured, predicted, reference;
     std::vector<uint32_t> garments;
     for (const cc::ShadowCheckResult& r : results) {
         measured.push_back(r.measuredErrorPx);
@@ -40,11 +41,15 @@ ShadowSummary summarise(const std::vector<cc::ShadowCheckResult>& results, doubl
         garments.push_back(r.garment.index1);
         s.withinMeasured += r.measuredErrorPx <= tolerancePx;
         s.withinPredicted += r.predictedErrorPx <= tolerancePx;
+        reference.push_back(r.referenceCheckPx);
+        s.referenceWithin += r.referenceCheckPx >= 0.0 && r.referenceCheckPx <= tolerancePx;
     }
     std::sort(garments.begin(), garments.end());
     s.garments = std::size_t(std::unique(garments.begin(), garments.end()) - garments.begin());
     s.withinMeasured /= double(results.size());
     s.withinPredicted /= double(results.size());
+    s.referenceWithin /= double(results.size());
+    s.medianReferencePx = percentile(reference, 0.5);
     s.medianPx = percentile(measured, 0.5);
     s.p95Px = percentile(measured, 0.95);
     s.medianPredictedPx = percentile(predicted, 0.5);
@@ -52,11 +57,9 @@ ShadowSummary summarise(const std::vector<cc::ShadowCheckResult>& results, doubl
 }
 
 RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs,
-                   uint32_t shadowGarments = 0) {
+                   const cc::ShadowCheckDesc& shadow = {}) {
     RunResult result;
     WorldPtr world(cc::World::create(desc).value());
-    cc::ShadowCheckDesc shadow;
-    shadow.garments = shadowGarments;
     if (cc::Status s = world->setShadowCheck(shadow); !s) {
         std::fprintf(stderr, "shadow check: %s\n", s.message().c_str());
         result.ok = false;
@@ -114,7 +117,7 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
 
 } // namespace
 
-int runScaling(double budgetMs, int threadCount, int shadowGarments) {
+int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shadowCheck) {
     std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads\n", budgetMs,
                 threadCount > 0 ? std::to_string(threadCount).c_str() : "all");
     std::printf("%-10s %-6s %10s %10s %8s %8s %8s  %s\n", "characters", "mode", "median ms", "p99 ms", "updated",
@@ -133,7 +136,7 @@ int runScaling(double budgetMs, int threadCount, int shadowGarments) {
             desc.frameBudgetMs = budgetMs;
             if (full) useFullResolution(desc);
             const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9,
-                                         full ? 0u : uint32_t(shadowGarments));
+                                         full ? cc::ShadowCheckDesc{} : shadowCheck);
             if (!r.ok) return 1;
             const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
             std::printf("%-10d %-6s %10.2f %10.2f %8.1f %8.1f %8.2f  %.1f %.1f %.1f %.1f %.1f%s\n", n,
@@ -142,15 +145,17 @@ int runScaling(double budgetMs, int threadCount, int shadowGarments) {
                         r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
             const ShadowSummary shadow = summarise(r.shadow, desc.pixelTolerance);
             if (shadow.windows > 0)
-                std::printf("%-10s shadow check: %zu windows on %zu garments, measured px median %.2f p95 %.2f "
-                            "(predicted median %.2f); within %.1f px: measured %.3f, predicted %.3f\n",
-                            "", shadow.windows, shadow.garments, shadow.medianPx, shadow.p95Px,
-                            shadow.medianPredictedPx, desc.pixelTolerance, shadow.withinMeasured,
-                            shadow.withinPredicted);
+                std::printf("%-10s shadow check (%.2f s windows): %zu on %zu garments, measured px median %.2f "
+                            "p95 %.2f (predicted median %.2f, the reference's own check %.2f); within %.1f px: "
+                            "measured %.3f, predicted %.3f, the reference's own check %.3f\n",
+                            "", shadowCheck.windowSeconds, shadow.windows, shadow.garments, shadow.medianPx,
+                            shadow.p95Px, shadow.medianPredictedPx, shadow.medianReferencePx, desc.pixelTolerance,
+                            shadow.withinMeasured, shadow.withinPredicted, shadow.referenceWithin);
             std::printf("BAR crowd chars=%d median_ms=%.2f p99_ms=%.2f vertex_updates_per_frame=%.0f within_1px=%.3f",
                         n, median, p99, r.vertexUpdates, r.withinTolerance);
             if (shadow.windows > 0)
-                std::printf(" within_1px_measured=%.3f shadow_windows=%zu", shadow.withinMeasured, shadow.windows);
+                std::printf(" within_1px_measured=%.3f reference_within_1px=%.3f shadow_windows=%zu",
+                            shadow.withinMeasured, shadow.referenceWithin, shadow.windows);
             std::printf(" mode=%s\n", full ? "full" : "lod");
             std::fflush(stdout);
             if (p99 <= 16.7) (full ? fitFull : fitLod) = n;

@@ -13,10 +13,11 @@
 
 namespace crowd {
 
-inline double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
+inline double percentile(const std::vector<double>& values, double p) {
+    if (values.empty()) return 0.0;
+    std::vector<double> v(values);
     const std::size_t k = std::min(v.size() - 1, std::size_t(std::ceil(p * double(v.size())) - 1));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
     return v[k];
 }
 
@@ -36,9 +37,10 @@ inline void useFullResolution(cc::WorldDesc& desc) {
 }
 
 /// Crowd scaling: 10 -> 1000 characters with LOD and at full resolution, and 1 -> 2 threads.
-/// With `shadowGarments` > 0 the LOD runs also run the World's shadow check on that many garments at
-/// once and print the measured share of windows within the tolerance (BAR within_1px_measured).
-int runScaling(double budgetMs, int threads, int shadowGarments);
+/// With shadowCheck.garments > 0 the LOD runs also run the World's shadow check and print the
+/// measured share of windows within the tolerance (BAR within_1px_measured) beside the predicted
+/// one and the reference's own check.
+int runScaling(double budgetMs, int threads, const cc::ShadowCheckDesc& shadowCheck);
 /// Speed against accuracy: levels, substeps, iterations and strain limit against a converged
 /// reference in restarted windows (Tradeoff.cpp); writes tradeoff.csv and tradeoff.png into outDir.
 int runTradeoff(const std::string& outDir, double seconds);

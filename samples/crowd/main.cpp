@@ -211,7 +211,12 @@ int main(int argc, char** argv) {
         std::printf("scene: %s\n", o.writeScene.c_str());
         return 0;
     }
-    if (o.scaling) return crowd::runScaling(o.scene.budgetMs, o.threads, o.shadow);
+    if (o.scaling) {
+        cc::ShadowCheckDesc shadow;
+        shadow.garments = uint32_t(o.shadow);
+        shadow.windowSeconds = o.shadowWindow;
+        return crowd::runScaling(o.scene.budgetMs, o.threads, shadow);
+    }
     if (o.tradeoff) return crowd::runTradeoff(o.out, o.scene.seconds);
     if (o.batch) return crowd::runBatchBench();
     if (o.snapshot) return crowd::runSnapshotStudy(o.scene.plaza.characters, o.threads);

@@ -267,8 +267,11 @@ struct FrameStats {
 struct ShadowCheckDesc {
     uint32_t garments = 0;        ///< [-] windows running at once; 0 = off; [0, 64]
     double windowSeconds = 0.25;  ///< [s] how long each garment is followed; [0.05, 2]
-    uint32_t substeps = 16;       ///< [-] the reference's substeps per frame; [1, 64]
-    uint32_t iterations = 8;      ///< [-] its iterations per substep; [1, 100]
+    uint32_t substeps = 64;       ///< [-] the reference's substeps per frame; [2, 64]
+    uint32_t iterations = 40;     ///< [-] its iterations per substep; [1, 100]
+    bool selfCheck = true;        ///< also run the reference at half its substeps beside it: how far
+                                  ///< the reference itself is from converged over the window
+                                  ///< (ShadowCheckResult::referenceCheckPx)
     Status validate() const;
 };
 
@@ -284,6 +287,9 @@ struct ShadowCheckResult {
                                       ///< the reference's, over every camera
     double measuredRmsMetres = 0.0;   ///< [m] render vertex distances, root mean square
     double measuredMaxMetres = 0.0;   ///< [m] and largest
+    double referenceCheckPx = -1.0;   ///< [px] the reference at half its substeps from the reference,
+                                      ///< measured as measuredErrorPx (-1 without selfCheck): errors
+                                      ///< below it are not resolved
 };
 
 /// What a restoreState may change of the saved run.
