@@ -414,14 +414,13 @@ cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garm
 }
 
 cc_status cc_world_set_shadow_check(cc_world* w, uint32_t garments, double window_seconds, uint32_t substeps,
-                                    uint32_t iterations, int32_t self_check) {
+                                    uint32_t iterations) {
     CC_CHECK_WORLD(w);
     cc::ShadowCheckDesc desc;
     desc.garments = garments;
     desc.windowSeconds = window_seconds;
     desc.substeps = substeps;
     desc.iterations = iterations;
-    desc.selfCheck = self_check != 0;
     return guarded(w, [&] { return report(w, w->world->setShadowCheck(desc)); });
 }
 

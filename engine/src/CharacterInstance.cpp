@@ -79,21 +79,32 @@ void CharacterInstance::adoptMeshCollider(std::unique_ptr<collision::BodyCollide
     mMeshColliderTime = -std::numeric_limits<double>::infinity();  // its pose is another character's
 }
 
+Status CharacterInstance::posedCapsules(std::vector<collision::Capsule>& out) {
+    if (body->hostSkinned) return Status::error(StatusCode::InvalidOperation, "a host-skinned body has no capsules");
+    if (Status s = updatePose(); !s) return s;
+    posedCapsulesLocked(out);
+    return Status::ok();
+}
+
+void CharacterInstance::posedCapsulesLocked(std::vector<collision::Capsule>& out) const {
+    const auto& fitted = body->mannequin.capsules;
+    const auto skin = pose.skinMatrices();
+    out.resize(fitted.size());
+    for (std::size_t k = 0; k < fitted.size(); ++k) {
+        const Mat4& m = skin[fitted[k].joint];
+        out[k].a = m.topLeftCorner<3, 3>() * fitted[k].a + m.topRightCorner<3, 1>();
+        out[k].b = m.topLeftCorner<3, 3>() * fitted[k].b + m.topRightCorner<3, 1>();
+        out[k].radius = fitted[k].radius;
+    }
+}
+
 Result<const collision::Collider*> CharacterInstance::proxyColliderAt(collision::CollisionDevice& device, double time,
                                                                       double sweep) {
     if (body->hostSkinned) return meshColliderAt(device, time, sweep);
     std::lock_guard<std::mutex> lock(mMutex);
     if (mProxyColliderTime == time) return static_cast<const collision::Collider*>(&proxyCollider);
     if (Status s = updatePoseLocked(); !s) return s;
-    const auto& fitted = body->mannequin.capsules;
-    const auto skin = pose.skinMatrices();
-    mCapsules.resize(fitted.size());
-    for (std::size_t k = 0; k < fitted.size(); ++k) {
-        const Mat4& m = skin[fitted[k].joint];
-        mCapsules[k].a = m.topLeftCorner<3, 3>() * fitted[k].a + m.topRightCorner<3, 1>();
-        mCapsules[k].b = m.topLeftCorner<3, 3>() * fitted[k].b + m.topRightCorner<3, 1>();
-        mCapsules[k].radius = fitted[k].radius;
-    }
+    posedCapsulesLocked(mCapsules);
     if (!proxyColliderMade) {
         auto made = collision::CapsuleCollider::create(mCapsules);
         if (!made.isOk()) return made.status();

@@ -78,6 +78,10 @@ struct CharacterInstance {
     /// bodies have none and answer with their mesh.
     Result<const collision::Collider*> proxyColliderAt(collision::CollisionDevice& device, double time, double sweep);
 
+    /// The capsules fitted to the skeleton at this frame's pose (posed first; host-skinned bodies
+    /// have none: an error).
+    Status posedCapsules(std::vector<collision::Capsule>& out);
+
     /// A mesh collider no garment asked for since `time - idle` seconds (or none): the World takes
     /// it back into its body's spares, so a crowd keeps as many as are near the camera.
     bool meshColliderIdle(double time, double idle) const;
@@ -96,6 +100,7 @@ struct CharacterInstance {
 private:
     Status updatePoseLocked();
     Status updateSkinLocked();
+    void posedCapsulesLocked(std::vector<collision::Capsule>& out) const;
     std::mutex mMutex;
     Status mPoseStatus;
     double mMeshColliderTime = -1.0;

@@ -132,7 +132,7 @@ Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
     return Status::ok();
 }
 
-bool GarmentInstance::switchLevel(int level) {
+bool GarmentInstance::switchLevel(int level, bool fade) {
     if (level == mLevel) return false;
     // What is on screen now (including any fade still running from an earlier switch) is kept in
     // mMorph until the new level's render positions are known.
@@ -154,7 +154,7 @@ bool GarmentInstance::switchLevel(int level) {
     }
     localRenderPositions(mLocalRender);
     for (std::size_t r = 0; r < mMorph.size(); ++r) mMorph[r] -= mLocalRender[r];
-    mMorphFramesLeft = kMorphFrames;
+    mMorphFramesLeft = fade ? kMorphFrames : 0;
     mLocalDirty = true;
     return true;
 }

@@ -90,9 +90,9 @@ public:
     GarmentUpdateContext context;   ///< this frame's update inputs (set before prepare())
 
     /// Moves the state to another uniform level through the cooked transfers (mass and momentum
-    /// conserved); the render mesh fades out the difference so nothing pops. Returns whether the
-    /// level changed.
-    bool switchLevel(int level);
+    /// conserved); the render mesh fades out the difference so nothing pops (unless !fade: a copy
+    /// no one watches). Returns whether the level changed.
+    bool switchLevel(int level, bool fade = true);
     /// Attachment targets and contact planes for an update against the character's body as it is
     /// this frame (context set).
     Status prepare(CharacterInstance& character, GarmentUpdateReport& outReport);

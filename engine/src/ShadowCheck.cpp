@@ -18,144 +18,205 @@ Status ShadowCheckDesc::validate() const {
 }
 
 namespace detail {
+namespace {
+
+/// [s] a reference runs before its first window: started from the garment's state (a coarser
+/// level's, prolonged), the finest level first settles into its own folds, a transient that
+/// depends on the substeps as much as anything measured after it.
+constexpr double kWarmupSeconds = 0.5;
+
+bool sameId(GarmentId a, GarmentId b) { return a.index1 == b.index1 && a.generation == b.generation; }
+
+} // namespace
 
 Status ShadowCheck::configure(const ShadowCheckDesc& desc) {
     if (Status s = desc.validate(); !s) return s;
     mDesc = desc;
     clear();
-    mWindows.resize(desc.garments);
+    mFollows.resize(desc.garments);
     return Status::ok();
 }
 
 void ShadowCheck::clear() {
-    for (Window& w : mWindows) w.copy.reset(), w.twin.reset();
+    for (Follow& f : mFollows) drop(f);
     mResults.clear();
 }
 
-Result<const cloth::SubstepFactor*> ShadowCheck::factorFor(const CookedAsset& asset, double substep) {
+void ShadowCheck::drop(Follow& f) {
+    f.reference.reset();
+    f.copy.reset();
+    f.twin.reset();
+    f.windowFramesLeft = 0;
+}
+
+Result<const cloth::SubstepFactor*> ShadowCheck::factorFor(const CookedAsset& asset, int level, double substep) {
     for (const CachedFactor& f : mFactors)
-        if (f.asset == &asset && f.substep == substep) return f.factor.get();
-    auto built = asset.levels.back().cloth->buildFactor(substep);
+        if (f.asset == &asset && f.level == level && f.substep == substep) return f.factor.get();
+    auto built = asset.levels[std::size_t(level)].cloth->buildFactor(substep);
     if (!built.isOk()) return built.status();
-    // Few assets and one frame time in a run: a handful of factors.
-    mFactors.push_back({&asset, substep, std::move(built).value()});
+    // A few assets, levels and one frame time in a run: a few dozen factors at most.
+    mFactors.push_back({&asset, level, substep, std::move(built).value()});
     return mFactors.back().factor.get();
 }
 
-bool ShadowCheck::start(Window& w, const GarmentRef& item, const ShadowFrame& frame) {
-    GarmentInstance& garment = *item.garment;
+bool ShadowCheck::startFollowing(Follow& f, const GarmentRef& item, const ShadowFrame& frame) {
     CharacterInstance& character = *item.character;
-    auto made = garment.clone(character);
+    auto made = item.garment->clone(character);
     if (!made.isOk()) return false;
-    std::unique_ptr<GarmentInstance> copy = std::move(made).value();
-    copy->switchLevel(int(copy->asset().levels.size()) - 1);
-    copy->schedule.level = copy->level();
-    copy->schedule.updateInterval = 1;
-    copy->context.selfCollision = frame.selfCollision && garment.schedule.selfCollision;
-
-    // Its own body collider: the character's is moved at the times its garments update, which the
-    // copy must not change.
+    std::unique_ptr<GarmentInstance> reference = std::move(made).value();
+    reference->switchLevel(int(reference->asset().levels.size()) - 1, false);
+    reference->schedule.level = reference->level();
+    reference->context.selfCollision = frame.selfCollision && item.garment->schedule.selfCollision;
+    // A mesh collider of its own: the character's is moved at the times its garments update,
+    // which the reference must not change.
     if (Status s = character.updateSkin(); !s) return false;
-    if (w.collider && w.topology == character.bodyTopology) {
-        if (!w.collider->reset(character.skinnedPositions)) return false;
+    if (f.mesh && f.topology == character.bodyTopology) {
+        if (!f.mesh->reset(character.skinnedPositions)) return false;
     } else {
-        w.collider.reset();
+        f.mesh.reset();
         if (!character.bodyTopology) return false;
         auto collider = collision::BodyCollider::create(*frame.device, character.bodyTopology, character.skinnedPositions);
         if (!collider.isOk()) return false;
-        w.collider = std::move(collider).value();
-        w.topology = character.bodyTopology;
+        f.mesh = std::move(collider).value();
+        f.topology = character.bodyTopology;
     }
-    w.colliderTime = frame.time;
-    w.twin.reset();
-    if (mDesc.selfCheck) {
-        auto twin = copy->clone(character);
-        if (!twin.isOk()) return false;
-        w.twin = std::move(twin).value();
-        w.twin->context.selfCollision = copy->context.selfCollision;
-    }
-    w.id = item.id;
-    copy->context.collider = w.collider.get();
-    if (w.twin) w.twin->context.collider = w.collider.get();
-    w.copy = std::move(copy);
-    w.framesLeft = std::max(1, int(std::lround(mDesc.windowSeconds / frame.dt)));
+    f.meshTime = frame.time;
+    f.id = item.id;
+    f.reference = std::move(reference);
+    f.warmupFramesLeft = std::max(1, int(std::lround(kWarmupSeconds / frame.dt)));
+    f.windowFramesLeft = 0;
+    f.windowsLeft = kWindowsPerGarment;
     return true;
 }
 
-bool ShadowCheck::advance(Window& w, CharacterInstance& character, const ShadowFrame& frame) {
-    if (Status s = character.updateSkin(); !s) return false;
-    // Moved over the time between the world's clock readings, as the character's own collider
-    // is (not frame.dt: the clock's sums differ from it in the last bits).
-    if (!w.collider->update(character.skinnedPositions, frame.time - w.colliderTime)) return false;
-    w.colliderTime = frame.time;
-    if (!stepCopy(*w.copy, w.workspace, int(mDesc.substeps), character, frame)) return false;
-    return !w.twin || stepCopy(*w.twin, w.workspace, std::max(1, int(mDesc.substeps) / 2), character, frame);
+bool ShadowCheck::openWindow(Follow& f, const GarmentRef& item) {
+    const GarmentInstance& garment = *item.garment;
+    CharacterInstance& character = *item.character;
+    const lod::GarmentSchedule& s = garment.schedule;
+    Configuration& c = f.configuration;
+    c.level = garment.level();
+    c.substeps = std::max(1, s.substeps);
+    c.iterations = std::max(1, s.iterations);
+    c.continuous = s.collision == lod::CollisionDetail::MeshContinuous;
+    c.proxies = s.collision == lod::CollisionDetail::Proxies && !character.body->hostSkinned;
+    c.selfCollision = f.reference->context.selfCollision;
+    c.predictedErrorPx = s.predictedErrorPx;
+    c.screenRadiusPx = s.screenRadiusPx;
+    c.updateInterval = uint32_t(std::max(0, s.updateInterval));
+    auto copy = f.reference->clone(character);
+    auto twin = f.reference->clone(character);
+    if (!copy.isOk() || !twin.isOk()) return false;
+    f.copy = std::move(copy).value();
+    f.twin = std::move(twin).value();
+    f.copy->switchLevel(c.level, false);  // restricted through the cooked transfers
+    f.copy->schedule.level = c.level;
+    f.copy->context.selfCollision = c.selfCollision;
+    f.twin->context.selfCollision = c.selfCollision;
+    if (c.proxies) {
+        if (!character.posedCapsules(mCapsuleScratch)) return false;
+        if (!f.capsulesMade) {
+            auto made = collision::CapsuleCollider::create(mCapsuleScratch);
+            if (!made.isOk()) return false;
+            f.capsules = std::move(made).value();
+            f.capsulesMade = true;
+        } else if (!f.capsules.reset(mCapsuleScratch)) {
+            return false;
+        }
+        f.capsulesTime = f.reference->lastUpdateTime;
+    }
+    return true;
 }
 
-bool ShadowCheck::stepCopy(GarmentInstance& copy, cloth::SubstepWorkspace& workspace, int substeps,
-                           CharacterInstance& character, const ShadowFrame& frame) {
-    copy.advanceFrame();
-    GarmentUpdateContext& context = copy.context;
-    context.dt = frame.dt;
+bool ShadowCheck::update(GarmentInstance& g, cloth::SubstepWorkspace& workspace, double dt, int substeps,
+                         int iterations, const collision::Collider* collider, bool continuous,
+                         CharacterInstance& character, const ShadowFrame& frame) {
+    GarmentUpdateContext& context = g.context;
+    context.dt = dt;
     context.carried = 0.0;
-    context.continuous = true;
+    context.collider = collider;
+    context.continuous = continuous;
     context.proxies = false;
-    setInertialForces(copy, character, frame.gravity, frame.time - copy.lastUpdateTime, frame.longestStep);
+    setInertialForces(g, character, frame.gravity, frame.time - g.lastUpdateTime, frame.longestStep);
 
-    const CookedAsset& asset = copy.asset();
+    const CookedAsset& asset = g.asset();
     cloth::SubstepSettings settings;
     settings.method = cloth::SubstepMethod::Newton;
     settings.substeps = substeps;
-    settings.iterations = int(mDesc.iterations);
+    settings.iterations = iterations;
     settings.strainLimit = frame.strainLimit;
     settings.contactThickness = asset.desc.thickness;
     settings.compressionStiffness = asset.desc.compressionStiffness;
     settings.friction = cloth::Friction{asset.desc.friction, 0.8 * asset.desc.friction};
-    auto factor = factorFor(asset, frame.dt / double(substeps));
+    auto factor = factorFor(asset, g.level(), dt / double(substeps));
     if (!factor.isOk()) return false;
 
     GarmentUpdateReport report;
-    if (!copy.prepare(character, report)) return false;
-    const cloth::SubstepLane lane = copy.lane();
+    if (!g.prepare(character, report)) return false;
+    const cloth::SubstepLane lane = g.lane();
     cloth::SubstepLaneReport laneReport;
-    const Status solved = cloth::stepSubsteps(*copy.cookedLevel().cloth, *factor.value(), frame.dt, settings,
+    const Status solved = cloth::stepSubsteps(*g.cookedLevel().cloth, *factor.value(), dt, settings,
                                               Span<const cloth::SubstepLane>(&lane, 1), workspace,
                                               Span<cloth::SubstepLaneReport>(&laneReport, 1));
     if (!solved || !laneReport.status) return false;
-    if (!copy.finish(settings, report)) return false;
-    copy.lastUpdateTime = frame.time;
+    if (!g.finish(settings, report)) return false;
+    g.lastUpdateTime = frame.time;
     return true;
 }
 
-void ShadowCheck::measure(const Window& w, GarmentInstance& garment, const CharacterInstance& character,
-                          const ShadowFrame& frame) {
-    garment.publish(character);  // what the host would draw now
-    w.copy->publish(character);
-    const RenderMeshView shown = garment.renderView(), reference = w.copy->renderView();
+bool ShadowCheck::advance(Follow& f, const GarmentRef& item, const ShadowFrame& frame) {
+    CharacterInstance& character = *item.character;
+    if (Status s = character.updateSkin(); !s) return false;
+    // Moved over the time between the world's clock readings, as the character's own collider
+    // is (not frame.dt: the clock's sums differ from it in the last bits).
+    if (!f.mesh->update(character.skinnedPositions, frame.time - f.meshTime)) return false;
+    f.meshTime = frame.time;
+    const int substeps = int(mDesc.substeps), iterations = int(mDesc.iterations);
+    if (!update(*f.reference, f.workspace, frame.dt, substeps, iterations, f.mesh.get(), true, character, frame))
+        return false;
+    if (f.windowFramesLeft == 0) return true;
+    if (!update(*f.twin, f.workspace, frame.dt, substeps / 2, iterations, f.mesh.get(), true, character, frame))
+        return false;
+    // The copy is updated when the garment is (every updateInterval-th frame, over the same step):
+    // in between it is carried with the character, as the garment is drawn.
+    const GarmentInstance& garment = *item.garment;
+    if (!garment.stats.updated) return true;
+    const Configuration& c = f.configuration;
+    const collision::Collider* collider = f.mesh.get();
+    if (c.proxies) {
+        if (!character.posedCapsules(mCapsuleScratch)) return false;
+        if (!f.capsules.update(mCapsuleScratch, frame.time - f.capsulesTime)) return false;
+        f.capsulesTime = frame.time;
+        collider = &f.capsules;
+    }
+    return update(*f.copy, f.workspace, garment.context.dt, c.substeps, c.iterations, collider, c.continuous,
+                  character, frame);
+}
+
+void ShadowCheck::measure(Follow& f, const CharacterInstance& character, const ShadowFrame& frame) {
+    f.reference->publish(character);
+    f.copy->publish(character);
+    f.twin->publish(character);
+    const RenderMeshView reference = f.reference->renderView(), shown = f.copy->renderView();
     if (shown.vertexCount != reference.vertexCount) return;
+    const Configuration& c = f.configuration;
     ShadowCheckResult r;
-    r.garment = w.id;
-    r.level = garment.level();
-    r.referenceLevel = w.copy->level();
-    r.updateInterval = uint32_t(std::max(0, garment.schedule.updateInterval));
-    r.screenRadiusPx = garment.schedule.screenRadiusPx;
-    r.predictedErrorPx = garment.schedule.predictedErrorPx;
+    r.garment = f.id;
+    r.level = c.level;
+    r.referenceLevel = f.reference->level();
+    r.updateInterval = c.updateInterval;
+    r.screenRadiusPx = c.screenRadiusPx;
+    r.predictedErrorPx = c.predictedErrorPx;
     const lod::MeshDeviation metres = lod::meshDeviation(shown.positions, reference.positions, shown.vertexCount);
     r.measuredRmsMetres = metres.rmsMetres;
     r.measuredMaxMetres = metres.maxMetres;
-    auto pixels = [&](const float* a, const float* b) {
+    auto pixels = [&](const float* a) {
         double worst = 0.0;
         for (const lod::SchedulerCamera& camera : frame.cameras)
-            worst = std::max(worst, lod::meshDeviation(a, b, shown.vertexCount, &camera).maxPixels);
+            worst = std::max(worst, lod::meshDeviation(a, reference.positions, shown.vertexCount, &camera).maxPixels);
         return worst;
     };
-    r.measuredErrorPx = pixels(shown.positions, reference.positions);
-    if (w.twin) {
-        w.twin->publish(character);
-        r.referenceCheckPx = pixels(w.twin->renderView().positions, reference.positions);
-    } else {
-        r.referenceCheckPx = -1.0;
-    }
+    r.measuredErrorPx = pixels(shown.positions);
+    r.referenceCheckPx = pixels(f.twin->renderView().positions);
     mResults.push_back(r);
 }
 
@@ -164,34 +225,48 @@ void ShadowCheck::step(const ShadowFrame& frame, Span<const GarmentRef> items) {
     if (!enabled()) return;
     auto find = [&](GarmentId id) -> const GarmentRef* {
         for (const GarmentRef& item : items)
-            if (item.id.index1 == id.index1 && item.id.generation == id.generation) return &item;
+            if (sameId(item.id, id)) return &item;
         return nullptr;
     };
-    // 1. Running windows take this frame's step; those that end are measured.
-    for (Window& w : mWindows) {
-        if (!w.copy) continue;
-        const GarmentRef* item = find(w.id);
-        if (!item || item->garment->stats.failed || !advance(w, *item->character, frame)) {
-            w.copy.reset(), w.twin.reset();  // its garment went or failed, or a reference did: no result
+    auto seenAndUpdated = [](const GarmentInstance& g) {
+        return g.stats.updated && !g.stats.failed && g.schedule.visible;
+    };
+    // 1. Followed garments: the reference (and an open window) take this frame's step; a window
+    //    that ends is measured; a new one opens on a frame the garment is updated and seen.
+    for (Follow& f : mFollows) {
+        if (!f.reference) continue;
+        const GarmentRef* item = find(f.id);
+        if (!item || item->garment->stats.failed || !advance(f, *item, frame)) {
+            drop(f);  // its garment went or failed, or a copy did: no result
             continue;
         }
-        if (--w.framesLeft > 0) continue;
-        measure(w, *item->garment, *item->character, frame);
-        w.copy.reset(), w.twin.reset();
+        if (f.windowFramesLeft > 0 && --f.windowFramesLeft == 0) {
+            measure(f, *item->character, frame);
+            f.copy.reset();
+            f.twin.reset();
+            if (--f.windowsLeft == 0) {
+                drop(f);
+                continue;
+            }
+        }
+        if (f.warmupFramesLeft > 0) --f.warmupFramesLeft;
+        if (f.warmupFramesLeft == 0 && f.windowFramesLeft == 0 && seenAndUpdated(*item->garment)) {
+            if (!openWindow(f, *item)) {
+                drop(f);
+                continue;
+            }
+            f.windowFramesLeft = std::max(1, int(std::lround(mDesc.windowSeconds / frame.dt)));
+        }
     }
-    // 2. Free windows start on garments updated and seen this frame, the next handles after the
-    //    last one started (round robin: every visible garment is sampled in turn).
-    auto running = [&](GarmentId id) {
-        return std::any_of(mWindows.begin(), mWindows.end(), [&](const Window& w) {
-            return w.copy && w.id.index1 == id.index1 && w.id.generation == id.generation;
-        });
+    // 2. Free slots follow garments updated and seen this frame, the next handles after the last
+    //    one followed (round robin: every visible garment is sampled in turn).
+    auto followed = [&](GarmentId id) {
+        return std::any_of(mFollows.begin(), mFollows.end(),
+                           [&](const Follow& f) { return f.reference && sameId(f.id, id); });
     };
-    auto eligible = [&](const GarmentRef& item) {
-        const GarmentInstance& g = *item.garment;
-        return g.stats.updated && !g.stats.failed && g.schedule.visible && !running(item.id);
-    };
-    for (Window& w : mWindows) {
-        if (w.copy) continue;
+    auto eligible = [&](const GarmentRef& item) { return seenAndUpdated(*item.garment) && !followed(item.id); };
+    for (Follow& f : mFollows) {
+        if (f.reference) continue;
         const GarmentRef* next = nullptr;
         for (const GarmentRef& item : items)
             if (eligible(item) && item.id.index1 > mCursor && (!next || item.id.index1 < next->id.index1)) next = &item;
@@ -200,7 +275,7 @@ void ShadowCheck::step(const ShadowFrame& frame, Span<const GarmentRef> items) {
                 if (eligible(item) && (!next || item.id.index1 < next->id.index1)) next = &item;
         if (!next) break;
         mCursor = next->id.index1;
-        if (!start(w, *next, frame)) w.copy.reset(), w.twin.reset();
+        if (!startFollowing(f, *next, frame)) drop(f);
     }
 }
 

@@ -1,9 +1,14 @@
 #pragma once
-// The shadow check (issue 14): the scheduler's predicted screen error against a measured one. A
-// garment just updated is copied; the copy is stepped every frame at its asset's finest level
-// under the reference effort, against its own mesh collider with continuous tests, for a window;
-// then the garment as shown and the copy are compared on screen. The copy reads the character (its
-// pose and skin, which every reader computes alike) and writes nothing the crowd reads.
+// The shadow check (issue 14): the scheduler's predicted screen error against a measured one, in
+// the crowd as it runs. A garment seen and just updated is followed: a reference copy of it runs
+// at its asset's finest level under the reference effort, continuously, against colliders of its
+// own. After a warm-up (the copy settles from the garment's coarser state into the finest level's
+// own), windows are restarted from the reference's state (TESTPLAN point 3): one copy restricted to
+// the garment's level and run as the scheduler runs the garment (effort, update interval,
+// collision detail), one at the finest level at half the reference's substeps (how far the
+// reference itself is resolved); at a window's end both are compared with the reference on
+// screen. The copies read the character (its pose and skin, which every reader computes alike)
+// and write nothing the crowd reads.
 
 #include <memory>
 #include <vector>
@@ -11,6 +16,7 @@
 #include "GarmentInstance.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/collision/BodyCollider.h"
+#include "crowdcloth/collision/CapsuleCollider.h"
 #include "crowdcloth/collision/CollisionDevice.h"
 #include "crowdcloth/core/Span.h"
 #include "crowdcloth/lod/CrowdScheduler.h"
@@ -38,48 +44,70 @@ struct ShadowFrame {
 
 class ShadowCheck {
 public:
+    /// Windows each followed garment gets before another garment is followed.
+    static constexpr int kWindowsPerGarment = 4;
+
     /// New settings; running windows are dropped.
     Status configure(const ShadowCheckDesc& desc);
     bool enabled() const { return mDesc.garments > 0; }
-    /// Drops running windows (a restore replaced the garments they follow).
+    /// Drops every followed garment (a restore replaced them).
     void clear();
-    /// After a frame: steps the running windows, measures those that end, and starts windows on
-    /// garments updated and seen this frame (round robin by handle). `items` are the World's
-    /// garments, in handle order. Serial.
+    /// After a frame: steps the references and open windows, measures the windows that end, opens
+    /// windows, and starts following garments updated and seen this frame (round robin by handle).
+    /// `items` are the World's garments. Serial.
     void step(const ShadowFrame& frame, Span<const GarmentRef> items);
     const std::vector<ShadowCheckResult>& results() const { return mResults; }
 
 private:
-    struct Window {
+    /// How the scheduler ran the garment when a window opened: what the window's copy repeats.
+    struct Configuration {
+        int level = 0;
+        int substeps = 1, iterations = 1;
+        bool continuous = false, proxies = false, selfCollision = false;
+        double predictedErrorPx = 0.0;
+        double screenRadiusPx = 0.0;
+        uint32_t updateInterval = 1;
+    };
+    struct Follow {
         GarmentId id{};
-        std::unique_ptr<GarmentInstance> copy;  ///< the reference
-        std::unique_ptr<GarmentInstance> twin;  ///< its check: half the substeps (null without selfCheck)
-        int framesLeft = 0;
-        std::shared_ptr<const collision::BodyTopology> topology;  ///< of the collider below
-        std::unique_ptr<collision::BodyCollider> collider;        ///< kept between windows
-        double colliderTime = 0.0;  ///< [s] world time of the collider's pose
+        std::unique_ptr<GarmentInstance> reference;  ///< null = this slot follows nothing
+        std::unique_ptr<GarmentInstance> copy;       ///< the window's garment as scheduled
+        std::unique_ptr<GarmentInstance> twin;       ///< the window's reference at half the substeps
+        Configuration configuration;
+        int warmupFramesLeft = 0;
+        int windowFramesLeft = 0;  ///< 0 = no window open
+        int windowsLeft = 0;
+        std::shared_ptr<const collision::BodyTopology> topology;  ///< of the mesh collider below
+        std::unique_ptr<collision::BodyCollider> mesh;            ///< kept between garments
+        double meshTime = 0.0;     ///< [s] world time of its pose
+        collision::CapsuleCollider capsules;                      ///< the copy's, when it runs on them
+        bool capsulesMade = false;
+        double capsulesTime = 0.0;
         cloth::SubstepWorkspace workspace;
     };
-    /// One frame's update of a copy at `substeps` x the reference's iterations; false if it failed.
-    bool stepCopy(GarmentInstance& copy, cloth::SubstepWorkspace& workspace, int substeps, CharacterInstance& character,
-                  const ShadowFrame& frame);
     struct CachedFactor {
         const CookedAsset* asset;
+        int level;
         double substep;
         std::shared_ptr<const cloth::SubstepFactor> factor;
     };
-    /// Steps a window's copies by one frame; false if one failed.
-    bool advance(Window& w, CharacterInstance& character, const ShadowFrame& frame);
-    bool start(Window& w, const GarmentRef& item, const ShadowFrame& frame);
-    void measure(const Window& w, GarmentInstance& garment, const CharacterInstance& character,
-                 const ShadowFrame& frame);
-    Result<const cloth::SubstepFactor*> factorFor(const CookedAsset& asset, double substep);
+    void drop(Follow& f);
+    bool startFollowing(Follow& f, const GarmentRef& item, const ShadowFrame& frame);
+    bool openWindow(Follow& f, const GarmentRef& item);
+    /// One update of `g` over `dt` at its level, `substeps` x `iterations`, against `collider`.
+    bool update(GarmentInstance& g, cloth::SubstepWorkspace& workspace, double dt, int substeps, int iterations,
+                const collision::Collider* collider, bool continuous, CharacterInstance& character,
+                const ShadowFrame& frame);
+    bool advance(Follow& f, const GarmentRef& item, const ShadowFrame& frame);
+    void measure(Follow& f, const CharacterInstance& character, const ShadowFrame& frame);
+    Result<const cloth::SubstepFactor*> factorFor(const CookedAsset& asset, int level, double substep);
 
     ShadowCheckDesc mDesc;
-    std::vector<Window> mWindows;
+    std::vector<Follow> mFollows;
     std::vector<CachedFactor> mFactors;
     std::vector<ShadowCheckResult> mResults;
-    uint32_t mCursor = 0;  ///< handle index of the garment the last window started on
+    std::vector<collision::Capsule> mCapsuleScratch;
+    uint32_t mCursor = 0;  ///< handle index of the garment followed last
 };
 
 } // namespace cc::detail

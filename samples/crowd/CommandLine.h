@@ -30,7 +30,7 @@ struct RunOptions {
     int preset = -1;              ///< a cc::QualityPreset for the World; -1 = the default WorldDesc
     double churn = 0.0;           ///< [1/s] share of the crowd replaced per second (a soak's joins and leaves)
     bool scaling = false, tradeoff = false, batch = false, snapshot = false;
-    int shadow = 2;               ///< --scaling: garments the shadow check follows at once (0 = off)
+    int shadow = 8;               ///< --scaling: garments the shadow check follows at once (0 = off)
     double shadowWindow = 0.25;   ///< [s] --scaling: the shadow check's window
 };
 

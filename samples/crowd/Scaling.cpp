@@ -135,17 +135,25 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
             desc.maxThreads = uint32_t(threadCount);
             desc.frameBudgetMs = budgetMs;
             if (full) useFullResolution(desc);
-            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9,
-                                         full ? cc::ShadowCheckDesc{} : shadowCheck);
+            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
             if (!r.ok) return 1;
+            // The shadow check in a second run of the same crowd: its reference solves between
+            // frames evict the crowd's data from the caches, and with learned costs the schedule
+            // follows the slower updates (measured: 1000 characters, 35,000 -> 17,000-25,000 vertex
+            // updates per frame, p99 +2-9 ms). Timings come from the run without it.
+            RunResult checked;
+            if (!full && shadowCheck.garments > 0) {
+                checked = runPlaza(n, desc, 240, 60, 1e9, shadowCheck);
+                if (!checked.ok) return 1;
+            }
             const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
             std::printf("%-10d %-6s %10.2f %10.2f %8.1f %8.1f %8.2f  %.1f %.1f %.1f %.1f %.1f%s\n", n,
                         full ? "full" : "lod", median, p99, r.meanUpdated, r.meanAsleep, r.maxErrorPx,
                         r.perLevelMean[0], r.perLevelMean[1], r.perLevelMean[2], r.perLevelMean[3],
                         r.perLevelMean[4], r.failed ? "  (failed garment updates!)" : "");
-            const ShadowSummary shadow = summarise(r.shadow, desc.pixelTolerance);
+            const ShadowSummary shadow = summarise(checked.shadow, desc.pixelTolerance);
             if (shadow.windows > 0)
-                std::printf("%-10s shadow check (%.2f s windows): %zu on %zu garments, measured px median %.2f "
+                std::printf("%-10s shadow check (a second run; %.2f s windows): %zu on %zu garments, measured px median %.2f "
                             "p95 %.2f (predicted median %.2f, the reference's own check %.2f); within %.1f px: "
                             "measured %.3f, predicted %.3f, the reference's own check %.3f\n",
                             "", shadowCheck.windowSeconds, shadow.windows, shadow.garments, shadow.medianPx,

@@ -258,38 +258,39 @@ struct FrameStats {
     uint32_t threads = 1;
 };
 
-/// The shadow check (World::setShadowCheck): what the scheduler predicts, measured. A few visible
-/// garments at a time are also stepped, from the state they are in after an update, at their
-/// asset's finest level against the body mesh with continuous tests, under the reference effort;
-/// after a window the garment's render mesh as shown is compared with the reference's on every
-/// camera. Costs a reference solve per checked garment per frame, run after the frame's stats are
-/// taken (outside the budget and FrameStats::totalMs); the crowd's own results do not change.
+/// The shadow check (World::setShadowCheck): what the scheduler predicts, measured in the crowd as
+/// it runs. A garment seen and just updated is followed: a reference copy runs at its asset's
+/// finest level under the reference effort against colliders of its own (the body mesh, continuous
+/// tests). After a 0.5 s warm-up, windows are restarted from the reference's state: a copy
+/// restricted to the garment's level runs as the scheduler ran the garment when the window opened
+/// (effort, update interval, collision detail); at the window's end it is compared with the
+/// reference on every camera. Four windows per garment, then the next garment in handle order.
+/// Costs a reference solve per followed garment per frame, run after the frame's stats are taken
+/// (outside the budget and FrameStats::totalMs); the crowd's own results do not change.
 struct ShadowCheckDesc {
-    uint32_t garments = 0;        ///< [-] windows running at once; 0 = off; [0, 64]
-    double windowSeconds = 0.25;  ///< [s] how long each garment is followed; [0.05, 2]
+    uint32_t garments = 0;        ///< [-] garments followed at once; 0 = off; [0, 64]
+    double windowSeconds = 0.25;  ///< [s] one window; [0.05, 2]
     uint32_t substeps = 64;       ///< [-] the reference's substeps per frame; [2, 64]
     uint32_t iterations = 40;     ///< [-] its iterations per substep; [1, 100]
-    bool selfCheck = true;        ///< also run the reference at half its substeps beside it: how far
-                                  ///< the reference itself is from converged over the window
-                                  ///< (ShadowCheckResult::referenceCheckPx)
     Status validate() const;
 };
 
 /// One window of the shadow check, at its end.
 struct ShadowCheckResult {
     GarmentId garment{};
-    int32_t level = -1;               ///< the garment's level at the window's end
+    int32_t level = -1;               ///< the garment's level when the window opened
     int32_t referenceLevel = -1;      ///< the level the reference ran at (the asset's finest)
-    uint32_t updateInterval = 1;      ///< [frames] the garment's at the window's end
-    double screenRadiusPx = 0.0;      ///< [px] the garment's projected radius at the end
-    double predictedErrorPx = 0.0;    ///< [px] the scheduler's prediction at the end
-    double measuredErrorPx = 0.0;     ///< [px] largest on-screen distance of a render vertex from
-                                      ///< the reference's, over every camera
+    uint32_t updateInterval = 1;      ///< [frames] the garment's then
+    double screenRadiusPx = 0.0;      ///< [px] its projected radius then
+    double predictedErrorPx = 0.0;    ///< [px] the scheduler's prediction then
+    double measuredErrorPx = 0.0;     ///< [px] at the window's end, largest on-screen distance of a
+                                      ///< render vertex of the copy run as scheduled from the
+                                      ///< reference's, over every camera
     double measuredRmsMetres = 0.0;   ///< [m] render vertex distances, root mean square
     double measuredMaxMetres = 0.0;   ///< [m] and largest
-    double referenceCheckPx = -1.0;   ///< [px] the reference at half its substeps from the reference,
-                                      ///< measured as measuredErrorPx (-1 without selfCheck): errors
-                                      ///< below it are not resolved
+    double referenceCheckPx = 0.0;    ///< [px] the reference restarted at half its substeps, from
+                                      ///< the reference, measured as measuredErrorPx: how far the
+                                      ///< reference is resolved (errors below it are not)
 };
 
 /// What a restoreState may change of the saved run.
@@ -416,11 +417,11 @@ public:
     /// Bitwise digest of every garment's simulated state, for determinism tests and replays.
     uint64_t stateHash() const;
 
-    /// Turns the shadow check on (desc.garments > 0), changes it, or off; windows running are
-    /// dropped. Not saved in snapshots; a restore drops running windows.
+    /// Turns the shadow check on (desc.garments > 0), changes it, or off; followed garments are
+    /// dropped. Not saved in snapshots; a restore drops them.
     Status setShadowCheck(const ShadowCheckDesc& desc);
     /// Windows the last step completed (valid until the next step). A window whose garment was
-    /// removed, failed or whose reference failed is dropped without a result.
+    /// removed or failed, or whose copies failed, ends without a result.
     const std::vector<ShadowCheckResult>& shadowCheckResults() const;
 
     /// Everything that carries from one frame to the next, as bytes (a save game, a replay's

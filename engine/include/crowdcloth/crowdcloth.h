@@ -241,21 +241,20 @@ CC_API cc_status cc_world_get_frame_stats(const cc_world* world, cc_frame_stats*
 /* JSON text of the last frame's stats; valid until the next call on the world. */
 CC_API cc_status cc_world_get_stats_json(cc_world* world, const char** out_json);
 CC_API cc_status cc_world_state_hash(const cc_world* world, uint64_t* out_hash);
-/* The shadow check (World::setShadowCheck): `garments` followed at once (0 = off), each for
-   `window_seconds`, stepped again at its asset's finest level under the reference's `substeps` x
-   `iterations` (checked at half the substeps when self_check is non-zero); the results of the
-   windows the last step completed, up to `capacity` into out_results (null when capacity is 0),
-   their number in *out_count. */
+/* The shadow check (World::setShadowCheck): `garments` followed at once (0 = off), a reference of
+   each at its asset's finest level under `substeps` x `iterations`, windows of `window_seconds`
+   restarted from it; the results of the windows the last step completed, up to `capacity` into
+   out_results (null when capacity is 0), their number in *out_count. */
 typedef struct cc_shadow_check_result {
     cc_garment_id garment;
     int32_t level, reference_level;
     uint32_t update_interval;
     double screen_radius_px, predicted_error_px, measured_error_px;
     double measured_rms_metres, measured_max_metres;
-    double reference_check_px; /* -1 without self_check */
+    double reference_check_px;
 } cc_shadow_check_result;
 CC_API cc_status cc_world_set_shadow_check(cc_world* world, uint32_t garments, double window_seconds,
-                                           uint32_t substeps, uint32_t iterations, int32_t self_check);
+                                           uint32_t substeps, uint32_t iterations);
 CC_API cc_status cc_world_get_shadow_check_results(const cc_world* world, cc_shadow_check_result* out_results,
                                                    uint32_t capacity, uint32_t* out_count);
 /* Snapshots (World::saveState / restoreState): the world's state as bytes, valid until the next
