@@ -103,11 +103,11 @@ bool ShadowCheck::openWindow(Follow& f, const GarmentRef& item) {
     c.predictedErrorPx = s.predictedErrorPx;
     c.screenRadiusPx = s.screenRadiusPx;
     c.updateInterval = uint32_t(std::max(0, s.updateInterval));
-    auto copy = f.reference->clone(character);
-    auto twin = f.reference->clone(character);
-    if (!copy.isOk() || !twin.isOk()) return false;
-    f.copy = std::move(copy).value();
-    f.twin = std::move(twin).value();
+    for (std::unique_ptr<GarmentInstance>* slot : {&f.copy, &f.twin}) {
+        auto made = f.reference->clone(character);
+        if (!made.isOk()) return false;
+        *slot = std::move(made).value();
+    }
     f.copy->switchLevel(c.level, false);  // restricted through the cooked transfers
     f.copy->schedule.level = c.level;
     f.copy->context.selfCollision = c.selfCollision;

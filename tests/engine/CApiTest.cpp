@@ -13,6 +13,7 @@
 #include "crowdcloth/crowdcloth.h"
 #include "crowdcloth/crowdcloth_import.h"
 #include "crowdcloth/import/CharacterIO.h"
+#include "support/CWorldScenes.h"
 #include "support/CrowdScenes.h"
 
 namespace cc {
@@ -189,34 +190,12 @@ TEST(CApi, RoundTripMatchesTheCppApi) {
     const CameraDesc camera = test::cameraLookingAt(Vec3(-1.5, 1.5, -3.0), Vec3(0, 1.2, 0));
     uint64_t cHash = 0, cppHash = 0;
     {
-        cc_world_desc wd;
-        cc_world_desc_init(&wd);
-        wd.fixed_cost_model = 1;
-        cc_world* world = nullptr;
-        ASSERT_EQ(cc_world_create(&wd, &world), CC_OK);
         cc_cloth_asset_desc ad;
         cc_cloth_asset_desc_init(&ad);
-        cc_asset_id asset;
-        ASSERT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_OK);
-        cc_mannequin_desc md;
-        cc_mannequin_desc_init(&md);
-        cc_body_id body;
-        ASSERT_EQ(cc_world_add_mannequin_body(world, &md, &body), CC_OK);
-        cc_character_desc cd;
-        cc_character_desc_init(&cd);
-        cd.body = body;
-        cc_character_id character;
-        ASSERT_EQ(cc_world_add_character(world, &cd, &character), CC_OK);
-        cc_garment_desc gd;
-        cc_garment_desc_init(&gd);
-        cc_garment_id garment;
-        ASSERT_EQ(cc_world_add_garment(world, asset, character, &gd, &garment), CC_OK);
-        cc_camera_desc cam;
-        cc_camera_desc_init(&cam);
-        std::memcpy(cam.view_projection, camera.viewProjection, sizeof(cam.view_projection));
-        cam.viewport_width = camera.viewportWidth;
-        cam.viewport_height = camera.viewportHeight;
-        ASSERT_EQ(cc_world_set_cameras(world, &cam, 1), CC_OK);
+        test::CWorldScene scene;
+        ASSERT_EQ(test::makeCWorldScene(ad, camera, scene), CC_OK);
+        cc_world* world = scene.world;
+        const cc_garment_id garment = scene.garment;
         for (int f = 0; f < 30; ++f) ASSERT_EQ(cc_world_step(world, 1.0 / 60.0), CC_OK) << cc_world_last_error(world);
         cc_render_mesh mesh;
         ASSERT_EQ(cc_world_get_render_mesh(world, garment, &mesh), CC_OK);

@@ -2,7 +2,6 @@
 // zero where the garment already runs as the reference does, more where it runs coarser, and
 // change nothing in the crowd it measures.
 #include <algorithm>
-#include <cstring>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -11,6 +10,7 @@
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/crowdcloth.h"
+#include "support/CWorldScenes.h"
 #include "support/CrowdScenes.h"
 #include "support/WorldPtr.h"
 
@@ -152,36 +152,13 @@ TEST(ShadowCheck, AGarmentRemovedMidWindowIsDroppedWithoutAResult) {
 }
 
 TEST(ShadowCheck, TheCApiTurnsItOnAndCopiesItsResults) {
-    cc_world_desc wd;
-    cc_world_desc_init(&wd);
-    wd.fixed_cost_model = 1;
-    cc_world* world = nullptr;
-    ASSERT_EQ(cc_world_create(&wd, &world), CC_OK);
     cc_cloth_asset_desc ad;
     cc_cloth_asset_desc_init(&ad);
     ad.level_count = 2;
-    cc_asset_id asset;
-    ASSERT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_OK);
-    cc_mannequin_desc md;
-    cc_mannequin_desc_init(&md);
-    cc_body_id body;
-    ASSERT_EQ(cc_world_add_mannequin_body(world, &md, &body), CC_OK);
-    cc_character_desc cd;
-    cc_character_desc_init(&cd);
-    cd.body = body;
-    cc_character_id character;
-    ASSERT_EQ(cc_world_add_character(world, &cd, &character), CC_OK);
-    cc_garment_desc gd;
-    cc_garment_desc_init(&gd);
-    cc_garment_id garment;
-    ASSERT_EQ(cc_world_add_garment(world, asset, character, &gd, &garment), CC_OK);
-    const CameraDesc camera = test::cameraLookingAt(Vec3(-0.3, 1.4, -2.5), Vec3(0, 1.2, 0));
-    cc_camera_desc cam;
-    cc_camera_desc_init(&cam);
-    std::memcpy(cam.view_projection, camera.viewProjection, sizeof(cam.view_projection));
-    cam.viewport_width = camera.viewportWidth;
-    cam.viewport_height = camera.viewportHeight;
-    ASSERT_EQ(cc_world_set_cameras(world, &cam, 1), CC_OK);
+    test::CWorldScene scene;
+    ASSERT_EQ(test::makeCWorldScene(ad, test::cameraLookingAt(Vec3(-0.3, 1.4, -2.5), Vec3(0, 1.2, 0)), scene), CC_OK);
+    cc_world* world = scene.world;
+    const cc_garment_id garment = scene.garment;
 
     EXPECT_EQ(cc_world_set_shadow_check(world, 1, 0.0, 4, 2), CC_INVALID_ARGUMENT);
     EXPECT_NE(std::string(cc_world_last_error(world)).find("windowSeconds"), std::string::npos);
