@@ -17,7 +17,7 @@
 namespace cc {
 namespace {
 
-constexpr double kDt = 1.0 / 60.0;
+constexpr double kShadowFrameDt = 1.0 / 60.0;
 
 /// A reference of 16 substeps x 8 iterations (the defaults' 64 x 40 costs 20x more; what is
 /// tested does not depend on it), checked against itself at 8 substeps.
@@ -38,7 +38,7 @@ struct CheckedRun {
 /// `count` capes on mannequins walking at `speed` m/s (continuous tests against the body from
 /// 1.5 m/s), a camera 2.5 m behind the first; the shadow check from frame 30 when `check` has
 /// garments. `forceLevel` -1 schedules the levels; `effort` sets the World's at the finest level.
-CheckedRun walk(int count, double speed, int forceLevel, uint32_t substeps, uint32_t iterations, const ShadowCheckDesc& check,
+CheckedRun walkChecked(int count, double speed, int forceLevel, uint32_t substeps, uint32_t iterations, const ShadowCheckDesc& check,
          int frames = 120) {
     WorldDesc desc;
     desc.fixedCostModel = true;
@@ -61,11 +61,11 @@ CheckedRun walk(int count, double speed, int forceLevel, uint32_t substeps, uint
             const Status s = world->setShadowCheck(check);
             EXPECT_TRUE(s.isOk()) << s.message();
         }
-        test::walkCrowd(*world, crowd, frame * kDt);
-        const Vec3 chest = crowd.starts[0] + Vec3(0, 1.2, crowd.speed * frame * kDt);
+        test::walkCrowd(*world, crowd, frame * kShadowFrameDt);
+        const Vec3 chest = crowd.starts[0] + Vec3(0, 1.2, crowd.speed * frame * kShadowFrameDt);
         const CameraDesc camera = test::cameraLookingAt(chest + Vec3(-0.3, 0.2, -2.5), chest);
         EXPECT_TRUE(world->setCameras(&camera, 1).isOk());
-        const Status s = world->step(kDt);
+        const Status s = world->step(kShadowFrameDt);
         EXPECT_TRUE(s.isOk()) << s.message();
         const auto& results = world->shadowCheckResults();
         run.results.insert(run.results.end(), results.begin(), results.end());
@@ -77,8 +77,8 @@ CheckedRun walk(int count, double speed, int forceLevel, uint32_t substeps, uint
 TEST(ShadowCheck, AGarmentRunAsTheReferenceMeasuresNoErrorAndACoarseOneSome) {
     // Finest level, the reference's effort, continuous tests (running at 2 m/s): the garment is
     // the reference, the window must read zero. Level 0 at the World's default effort must not.
-    const CheckedRun same = walk(1, 2.0, 2, 16, 8, referenceCheck(1), 150);
-    const CheckedRun coarse = walk(1, 2.0, 0, 4, 4, referenceCheck(1), 150);
+    const CheckedRun same = walkChecked(1, 2.0, 2, 16, 8, referenceCheck(1), 150);
+    const CheckedRun coarse = walkChecked(1, 2.0, 0, 4, 4, referenceCheck(1), 150);
     ASSERT_GE(same.results.size(), 4u) << "a 30-frame warm-up, then 15-frame windows, over 120 frames";
     ASSERT_EQ(coarse.results.size(), same.results.size());
     for (const ShadowCheckResult& r : same.results) {
@@ -106,8 +106,8 @@ TEST(ShadowCheck, AGarmentRunAsTheReferenceMeasuresNoErrorAndACoarseOneSome) {
 }
 
 TEST(ShadowCheck, TheCrowdItMeasuresRunsBitForBitAsWithoutIt) {
-    const CheckedRun off = walk(6, 1.2, -1, 4, 4, referenceCheck(0), 120);
-    const CheckedRun on = walk(6, 1.2, -1, 4, 4, referenceCheck(3), 120);
+    const CheckedRun off = walkChecked(6, 1.2, -1, 4, 4, referenceCheck(0), 120);
+    const CheckedRun on = walkChecked(6, 1.2, -1, 4, 4, referenceCheck(3), 120);
     EXPECT_TRUE(off.results.empty());
     EXPECT_GE(on.results.size(), 6u);
     EXPECT_EQ(on.hash, off.hash);
@@ -143,10 +143,10 @@ TEST(ShadowCheck, AGarmentRemovedMidWindowIsDroppedWithoutAResult) {
     const CameraDesc camera = test::cameraLookingAt(Vec3(-0.3, 1.4, -2.5), Vec3(0, 1.2, 0));
     ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
     ASSERT_TRUE(world->setShadowCheck(referenceCheck(1)).isOk());
-    ASSERT_TRUE(world->step(kDt).isOk());  // a window starts on the garment just updated
+    ASSERT_TRUE(world->step(kShadowFrameDt).isOk());  // a window starts on the garment just updated
     ASSERT_TRUE(world->removeGarment(crowd.garments[0]).isOk());
     for (int frame = 0; frame < 30; ++frame) {
-        ASSERT_TRUE(world->step(kDt).isOk());
+        ASSERT_TRUE(world->step(kShadowFrameDt).isOk());
         EXPECT_TRUE(world->shadowCheckResults().empty());
     }
 }
@@ -167,7 +167,7 @@ TEST(ShadowCheck, TheCApiTurnsItOnAndCopiesItsResults) {
     EXPECT_EQ(cc_world_get_shadow_check_results(world, nullptr, 1, &count), CC_INVALID_ARGUMENT);
     EXPECT_EQ(cc_world_get_shadow_check_results(world, nullptr, 0, nullptr), CC_INVALID_ARGUMENT);
     for (int f = 0; f < 60; ++f) {
-        ASSERT_EQ(cc_world_step(world, kDt), CC_OK) << cc_world_last_error(world);
+        ASSERT_EQ(cc_world_step(world, kShadowFrameDt), CC_OK) << cc_world_last_error(world);
         cc_shadow_check_result result{};
         ASSERT_EQ(cc_world_get_shadow_check_results(world, &result, 1, &count), CC_OK);
         ASSERT_LE(count, 1u);
