@@ -268,6 +268,18 @@ cloth::SubstepLane GarmentInstance::lane() {
     return lane;
 }
 
+cloth::SubstepSettings GarmentInstance::solverSettings(int substeps, int iterations, double strainLimit) const {
+    cloth::SubstepSettings settings;
+    settings.method = cloth::SubstepMethod::Newton;
+    settings.substeps = substeps;
+    settings.iterations = iterations;
+    settings.strainLimit = strainLimit;
+    settings.contactThickness = mAsset->desc.thickness;
+    settings.compressionStiffness = mAsset->desc.compressionStiffness;
+    settings.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
+    return settings;
+}
+
 Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport) {
     const auto start = Clock::now();
     const CookedLevel& level = mAsset->levels[mLevel];

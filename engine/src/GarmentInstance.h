@@ -98,6 +98,9 @@ public:
     Status prepare(CharacterInstance& character, GarmentUpdateReport& outReport);
     /// The solver's view of this garment for the update prepare() made ready.
     cloth::SubstepLane lane();
+    /// The substep solver's settings for this garment's asset at the given effort: the World's
+    /// batches and the shadow check's copies step with the same ones.
+    cloth::SubstepSettings solverSettings(int substeps, int iterations, double strainLimit) const;
     /// After the solve: self-collision if asked, then (against the body mesh) the body's swept and
     /// proximity corrections and the strain limit of `strainSettings` around the vertices they
     /// pushed.

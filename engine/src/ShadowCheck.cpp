@@ -49,16 +49,6 @@ void ShadowCheck::drop(Follow& f) {
     f.windowFramesLeft = 0;
 }
 
-Result<const cloth::SubstepFactor*> ShadowCheck::factorFor(const CookedAsset& asset, int level, double substep) {
-    for (const CachedFactor& f : mFactors)
-        if (f.asset == &asset && f.level == level && f.substep == substep) return f.factor.get();
-    auto built = asset.levels[std::size_t(level)].cloth->buildFactor(substep);
-    if (!built.isOk()) return built.status();
-    // A few assets, levels and one frame time in a run: a few dozen factors at most.
-    mFactors.push_back({&asset, level, substep, std::move(built).value()});
-    return mFactors.back().factor.get();
-}
-
 bool ShadowCheck::startFollowing(Follow& f, const GarmentRef& item, const ShadowFrame& frame) {
     CharacterInstance& character = *item.character;
     auto made = item.garment->clone(character);
@@ -138,16 +128,8 @@ bool ShadowCheck::update(GarmentInstance& g, cloth::SubstepWorkspace& workspace,
     context.proxies = false;
     setInertialForces(g, character, frame.gravity, frame.time - g.lastUpdateTime, frame.longestStep);
 
-    const CookedAsset& asset = g.asset();
-    cloth::SubstepSettings settings;
-    settings.method = cloth::SubstepMethod::Newton;
-    settings.substeps = substeps;
-    settings.iterations = iterations;
-    settings.strainLimit = frame.strainLimit;
-    settings.contactThickness = asset.desc.thickness;
-    settings.compressionStiffness = asset.desc.compressionStiffness;
-    settings.friction = cloth::Friction{asset.desc.friction, 0.8 * asset.desc.friction};
-    auto factor = factorFor(asset, g.level(), dt / double(substeps));
+    const cloth::SubstepSettings settings = g.solverSettings(substeps, iterations, frame.strainLimit);
+    auto factor = frame.factors->get(g, g.level(), dt / double(substeps), frame.frame);
     if (!factor.isOk()) return false;
 
     GarmentUpdateReport report;

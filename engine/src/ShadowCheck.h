@@ -13,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "FactorCache.h"
 #include "GarmentInstance.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/collision/BodyCollider.h"
@@ -39,6 +40,8 @@ struct ShadowFrame {
     double strainLimit = 0.1;
     bool selfCollision = false; ///< the World lets the scheduler turn it on
     collision::CollisionDevice* device = nullptr;
+    FactorCache* factors = nullptr;  ///< the World's: the copies step with the crowd's factors
+    uint64_t frame = 0;              ///< the World's frame counter (the cache's use marks)
     Span<const lod::SchedulerCamera> cameras;
 };
 
@@ -85,12 +88,6 @@ private:
         double capsulesTime = 0.0;
         cloth::SubstepWorkspace workspace;
     };
-    struct CachedFactor {
-        const CookedAsset* asset;
-        int level;
-        double substep;
-        std::shared_ptr<const cloth::SubstepFactor> factor;
-    };
     void drop(Follow& f);
     bool startFollowing(Follow& f, const GarmentRef& item, const ShadowFrame& frame);
     bool openWindow(Follow& f, const GarmentRef& item);
@@ -100,11 +97,9 @@ private:
                 const ShadowFrame& frame);
     bool advance(Follow& f, const GarmentRef& item, const ShadowFrame& frame);
     void measure(Follow& f, const CharacterInstance& character, const ShadowFrame& frame);
-    Result<const cloth::SubstepFactor*> factorFor(const CookedAsset& asset, int level, double substep);
 
     ShadowCheckDesc mDesc;
     std::vector<Follow> mFollows;
-    std::vector<CachedFactor> mFactors;
     std::vector<ShadowCheckResult> mResults;
     std::vector<collision::Capsule> mCapsuleScratch;
     uint32_t mCursor = 0;  ///< handle index of the garment followed last

@@ -57,7 +57,6 @@ constexpr double kBudgetStep = 0.004;
 constexpr double kOverBudgetWeight = 3.0;
 constexpr double kMinBudgetScale = 0.2;
 constexpr double kMaxBudgetScale = 1.5;  ///< measured costs may miss what the threads overlap
-constexpr uint64_t kFactorSweepFrames = 600;  ///< [frames] a factor unused this long is dropped
 /// A mesh collider no garment asked for this long [s] goes back to its body's spares (at most
 /// kMaxSpareColliders).
 constexpr double kColliderIdleSeconds = 1.0;
@@ -312,7 +311,7 @@ Status WorldImpl::scheduleFrame(double dt) {
     mRequests.resize(mItems.size());
     mSchedules.resize(mItems.size());
     for (std::size_t i = 0; i < mItems.size(); ++i) {
-        const FrameItem& item = mItems[i];
+        const GarmentRef& item = mItems[i];
         lod::GarmentRequest& r = mRequests[i];
         r.id = item.id.index1;
         r.profile = mProfileOfAsset[item.garment->assetIndex()];
@@ -368,22 +367,7 @@ void WorldImpl::fail(GarmentInstance& g, const Status& status) {
     g.lastError = status.message();
 }
 
-Result<const cloth::SubstepFactor*> WorldImpl::factorFor(const GarmentInstance& g, double substep) {
-    const int level = g.schedule.level;
-    CachedFactor& slot = mFactors[FactorKey{g.assetIndex(), level, substep}];
-    if (!slot.factor) {
-        auto built = g.asset().levels[level].cloth->buildFactor(substep);
-        if (!built.isOk()) {
-            mFactors.erase(FactorKey{g.assetIndex(), level, substep});
-            return built.status();
-        }
-        slot.factor = std::move(built).value();
-    }
-    slot.lastUsedFrame = mFrameStats.frame;
-    return slot.factor.get();
-}
-
-void WorldImpl::prepareGarment(const FrameItem& item) {
+void WorldImpl::prepareGarment(const GarmentRef& item) {
     const auto start = Clock::now();
     GarmentInstance& g = *item.garment;
     GarmentStats& stats = g.stats;
@@ -419,7 +403,7 @@ void WorldImpl::simulateBatch(Batch& batch) {
     // The shared solve's time, split evenly: what each garment costs inside a batch.
     const double share = msSince(start) / double(batch.items.size());
     for (std::size_t k = 0; k < batch.items.size(); ++k) {
-        const FrameItem& item = mItems[batch.items[k]];
+        const GarmentRef& item = mItems[batch.items[k]];
         GarmentInstance& g = *item.garment;
         const auto own = Clock::now();
         Status result = status ? batch.reports[k].status : status;
@@ -640,7 +624,7 @@ bool WorldImpl::nextStepPhase() {
     mBatchCount = 0;
     for (std::size_t k = 0; k < keys.size();) {
         GarmentInstance& g = *mItems[keys[k].item].garment;
-        auto factor = factorFor(g, keys[k].substep);
+        auto factor = mFactors.get(g, g.schedule.level, keys[k].substep, mFrameStats.frame);
         std::size_t end = k + 1;
         while (end < keys.size() && sameBatch(keys[end], keys[k])) ++end;
         if (!factor.isOk()) {
@@ -654,14 +638,7 @@ bool WorldImpl::nextStepPhase() {
             batch.level = &g.cookedLevel();
             batch.factor = factor.value();
             batch.dt = g.context.dt;
-            batch.settings = cloth::SubstepSettings{};
-            batch.settings.method = cloth::SubstepMethod::Newton;
-            batch.settings.substeps = keys[k].substeps;
-            batch.settings.iterations = keys[k].iterations;
-            batch.settings.strainLimit = mDesc.strainLimit;
-            batch.settings.contactThickness = g.asset().desc.thickness;
-            batch.settings.compressionStiffness = g.asset().desc.compressionStiffness;
-            batch.settings.friction = cloth::Friction{g.asset().desc.friction, 0.8 * g.asset().desc.friction};
+            batch.settings = g.solverSettings(keys[k].substeps, keys[k].iterations, mDesc.strainLimit);
             batch.items.clear();
             for (std::size_t j = k; j < std::min<std::size_t>(end, k + mDesc.batchSize); ++j) batch.items.push_back(keys[j].item);
         }
@@ -692,7 +669,7 @@ Status WorldImpl::endStep() {
     fs.simulateMs = msSince(mPhaseStart);
 
     // 5. Totals and learning, in item order so the sums are the same for any thread count.
-    for (const FrameItem& item : mItems) {
+    for (const GarmentRef& item : mItems) {
         GarmentInstance& g = *item.garment;
         GarmentStats& s = g.stats;
         const lod::GarmentSchedule& sc = g.schedule;
@@ -722,11 +699,7 @@ Status WorldImpl::endStep() {
     mCharacters.forEach([&](auto, CharacterInstance& c) {
         if (c.body->hostSkinned) c.hostVerticesGiven = c.skinnedCurrent = false; // needed again next frame
     });
-    // Factors no garment used for a while go (a level or step size the crowd left): the cache
-    // stays as small as the crowd's current variety.
-    if (fs.frame % kFactorSweepFrames == 0)
-        for (auto it = mFactors.begin(); it != mFactors.end();)
-            it = fs.frame - it->second.lastUsedFrame > kFactorSweepFrames ? mFactors.erase(it) : std::next(it);
+    mFactors.sweep(fs.frame);  // factors of a level or step size the crowd left go
     fs.totalMs = msSince(mFrameStart);
     // With learned costs the budget is closed-loop: what the garment costs do not show (the
     // schedule, the serial parts, threads waiting on each other or on a busy machine) is found by
@@ -747,6 +720,8 @@ Status WorldImpl::endStep() {
         frame.strainLimit = mDesc.strainLimit;
         frame.selfCollision = mDesc.selfCollision;
         frame.device = mDevice.get();
+        frame.factors = &mFactors;
+        frame.frame = fs.frame;
         frame.cameras = Span<const lod::SchedulerCamera>(mCameras.data(), mCameras.size());
         mShadow.step(frame, Span<const GarmentRef>(mItems.data(), mItems.size()));
     }

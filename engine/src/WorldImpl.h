@@ -1,13 +1,12 @@
 #pragma once
 
 #include <chrono>
-#include <map>
 #include <memory>
-#include <tuple>
 #include <vector>
 
 #include "CharacterInstance.h"
 #include "CookedAsset.h"
+#include "FactorCache.h"
 #include "GarmentInstance.h"
 #include "HandlePool.h"
 #include "ShadowCheck.h"
@@ -86,9 +85,6 @@ private:
     Status prepareBodyTopology(BodyRecord& body);
     /// The design's asset fitted to `body`, cooked on first use.
     Result<AssetId> fittedAsset(DesignRecord& design, const std::shared_ptr<const BodyAsset>& body);
-    /// One garment's slot in this frame's work lists.
-    using FrameItem = GarmentRef;
-
     /// Garments stepped together: one asset, level, factor and settings; ordered by id.
     struct Batch {
         const CookedLevel* level = nullptr;
@@ -100,17 +96,14 @@ private:
         std::vector<cloth::SubstepLane> lanes;
         std::vector<cloth::SubstepLaneReport> reports;
     };
-    using FactorKey = std::tuple<uint32_t, int, double>;  ///< asset index, level, substep [s]
 
     int threadCount() const;
     /// Runs task(i) for i in [0, count) on the host's task runner or OpenMP.
     template <typename Task>
     void runTasks(std::size_t count, Task& task);
     Status scheduleFrame(double dt);
-    /// The shared factor for an asset level and substep size, built on first need (serial).
-    Result<const cloth::SubstepFactor*> factorFor(const GarmentInstance& g, double substep);
     /// Level switch, attachment targets and contact planes of one garment due this frame.
-    void prepareGarment(const FrameItem& item);
+    void prepareGarment(const GarmentRef& item);
     /// One batch: the shared solve, then each garment's corrections and render mesh.
     void simulateBatch(Batch& batch);
     void fail(GarmentInstance& g, const Status& status);
@@ -144,7 +137,7 @@ private:
     std::chrono::steady_clock::time_point mFrameStart, mPhaseStart;
 
     // Per-frame scratch, kept to avoid allocating in the frame loop.
-    std::vector<FrameItem> mItems;
+    std::vector<GarmentRef> mItems;
     std::vector<lod::GarmentProfile> mProfiles;
     std::vector<uint32_t> mProfileOfAsset;  ///< asset index1 -> profile slot this frame
     std::vector<lod::GarmentRequest> mRequests;
@@ -164,11 +157,7 @@ private:
     };
     std::vector<BatchKey> mBatchKeys;
     std::size_t mBatchCount = 0;
-    struct CachedFactor {
-        std::shared_ptr<const cloth::SubstepFactor> factor;
-        uint64_t lastUsedFrame = 0;
-    };
-    std::map<FactorKey, CachedFactor> mFactors;
+    FactorCache mFactors;
 };
 
 } // namespace cc::detail
