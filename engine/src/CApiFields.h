@@ -65,7 +65,8 @@
     X(level, level) X(reference_level, referenceLevel) X(update_interval, updateInterval)          \
         X(screen_radius_px, screenRadiusPx) X(predicted_error_px, predictedErrorPx)                \
             X(measured_error_px, measuredErrorPx) X(measured_rms_metres, measuredRmsMetres)        \
-                X(measured_max_metres, measuredMaxMetres) X(reference_check_px, referenceCheckPx)
+                X(measured_max_metres, measuredMaxMetres) X(reference_check_px, referenceCheckPx)  \
+                    X(measured_rms_px, measuredRmsPx) X(reference_check_rms_px, referenceCheckRmsPx)
 #define CC_FRAME_STATS_FIELDS(X)                                                                   \
     X(frame, frame)                                                                                \
     X(schedule_ms, scheduleMs) X(simulate_ms, simulateMs) X(total_ms, totalMs)                     \

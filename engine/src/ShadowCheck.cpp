@@ -191,14 +191,16 @@ void ShadowCheck::measure(Follow& f, const CharacterInstance& character, const S
     const lod::MeshDeviation metres = lod::meshDeviation(shown.positions, reference.positions, shown.vertexCount);
     r.measuredRmsMetres = metres.rmsMetres;
     r.measuredMaxMetres = metres.maxMetres;
-    auto pixels = [&](const float* a) {
-        double worst = 0.0;
-        for (const lod::SchedulerCamera& camera : frame.cameras)
-            worst = std::max(worst, lod::meshDeviation(a, reference.positions, shown.vertexCount, &camera).maxPixels);
-        return worst;
+    // On the camera that shows it worst (largest and RMS each over the cameras).
+    auto pixels = [&](const float* a, double& outMax, double& outRms) {
+        for (const lod::SchedulerCamera& camera : frame.cameras) {
+            const lod::MeshDeviation d = lod::meshDeviation(a, reference.positions, shown.vertexCount, &camera);
+            outMax = std::max(outMax, d.maxPixels);
+            outRms = std::max(outRms, d.rmsPixels);
+        }
     };
-    r.measuredErrorPx = pixels(shown.positions);
-    r.referenceCheckPx = pixels(f.twin->renderView().positions);
+    pixels(shown.positions, r.measuredErrorPx, r.measuredRmsPx);
+    pixels(f.twin->renderView().positions, r.referenceCheckPx, r.referenceCheckRmsPx);
     mResults.push_back(r);
 }
 

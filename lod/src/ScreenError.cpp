@@ -21,7 +21,8 @@ MeshDeviation meshDeviation(const float* positions, const float* reference, std:
                             const SchedulerCamera* camera) {
     MeshDeviation d;
     d.vertices = vertexCount;
-    double sum = 0.0;
+    double sum = 0.0, pixelSum = 0.0;
+    std::size_t projected = 0;
     for (std::size_t v = 0; v < vertexCount; ++v) {
         const float* a = positions + 3 * v;
         const float* b = reference + 3 * v;
@@ -30,10 +31,15 @@ MeshDeviation meshDeviation(const float* positions, const float* reference, std:
         sum += d2;
         d.maxMetres = std::max(d.maxMetres, std::sqrt(d2));
         double ax, ay, bx, by;
-        if (camera && toPixels(*camera, a, ax, ay) && toPixels(*camera, b, bx, by))
-            d.maxPixels = std::max(d.maxPixels, std::hypot(ax - bx, ay - by));
+        if (camera && toPixels(*camera, a, ax, ay) && toPixels(*camera, b, bx, by)) {
+            const double apart = std::hypot(ax - bx, ay - by);
+            d.maxPixels = std::max(d.maxPixels, apart);
+            pixelSum += apart * apart;
+            ++projected;
+        }
     }
     if (vertexCount > 0) d.rmsMetres = std::sqrt(sum / double(vertexCount));
+    if (projected > 0) d.rmsPixels = std::sqrt(pixelSum / double(projected));
     return d;
 }
 

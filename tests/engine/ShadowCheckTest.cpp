@@ -87,9 +87,13 @@ TEST(ShadowCheck, AGarmentRunAsTheReferenceMeasuresNoErrorAndACoarseOneSome) {
         EXPECT_EQ(r.updateInterval, 1u);
         EXPECT_EQ(r.measuredMaxMetres, 0.0);  // bit for bit: the same solve on the same body
         EXPECT_EQ(r.measuredErrorPx, 0.0);
-        // The reference at half its substeps is another solve: it differs, boundedly.
+        EXPECT_EQ(r.measuredRmsPx, 0.0);
+        // The reference at half its substeps is another solve: it differs, boundedly, its typical
+        // vertex less than its worst.
         EXPECT_GT(r.referenceCheckPx, 0.0);
         EXPECT_LT(r.referenceCheckPx, 1000.0);
+        EXPECT_GT(r.referenceCheckRmsPx, 0.0);
+        EXPECT_LE(r.referenceCheckRmsPx, r.referenceCheckPx);
     }
     double worst = 0.0;
     for (const ShadowCheckResult& r : coarse.results) {
@@ -100,6 +104,8 @@ TEST(ShadowCheck, AGarmentRunAsTheReferenceMeasuresNoErrorAndACoarseOneSome) {
         // per metre face-on; no vertex moves further on screen than that allows (with the near
         // side of the cape 2 m away, 1.3x).
         EXPECT_LE(r.measuredErrorPx, 1.3 * 249.0 * r.measuredMaxMetres + 1e-9);
+        EXPECT_LE(r.measuredRmsPx, r.measuredErrorPx);
+        EXPECT_LE(r.measuredRmsPx, 1.3 * 249.0 * r.measuredRmsMetres + 1e-9);
         worst = std::max(worst, r.measuredMaxMetres);
     }
     EXPECT_GT(worst, 1e-3) << "the coarsest level of a running cape is within a millimetre of the finest";
@@ -177,6 +183,8 @@ TEST(ShadowCheck, TheCApiTurnsItOnAndCopiesItsResults) {
         EXPECT_EQ(result.reference_level, 1);
         EXPECT_TRUE(std::isfinite(result.measured_error_px) && result.measured_error_px >= 0.0);
         EXPECT_GE(result.reference_check_px, 0.0);
+        EXPECT_TRUE(result.measured_rms_px >= 0.0 && result.measured_rms_px <= result.measured_error_px);
+        EXPECT_TRUE(result.reference_check_rms_px >= 0.0 && result.reference_check_rms_px <= result.reference_check_px);
     }
     // A window starts on a frame the garment updates; standing, it updates every few frames.
     EXPECT_GE(windows, 2u);

@@ -55,6 +55,9 @@ TEST(ScreenError, ARigidShiftReadsItsLengthInMetresAndItsPixelsAtTheStatedDistan
         const double expected = pixelsAtDistance(k, distance, fovY, height);
         EXPECT_NEAR(expected, k / (2.0 * distance * std::tan(fovY / 2.0)) * height, 1e-12);
         EXPECT_NEAR(across.maxPixels, expected, 1e-3 * expected + 1e-4) << k << " m";
+        // Every vertex moved alike: the RMS is the same pixels (within the grid's perspective).
+        EXPECT_NEAR(across.rmsPixels, expected, 1e-3 * expected + 1e-4) << k << " m";
+        EXPECT_LE(across.rmsPixels, across.maxPixels);
         // Along the view: the same distance in metres, far fewer pixels (only the corners move
         // outwards or inwards on screen).
         const MeshDeviation along = meshDeviation(shifted(reference, Vec3(0.0, 0.0, k)).data(), reference.data(),
@@ -78,11 +81,15 @@ TEST(ScreenError, TheSameMeshReadsZeroAndOneMovedVertexSetsTheMaximum) {
     EXPECT_EQ(same.rmsMetres, 0.0);
     EXPECT_EQ(same.maxMetres, 0.0);
     EXPECT_EQ(same.maxPixels, 0.0);
+    EXPECT_EQ(same.rmsPixels, 0.0);
     std::vector<float> one = reference;
     one[3 * 7 + 1] += 0.05f;
     const MeshDeviation d = meshDeviation(one.data(), reference.data(), reference.size() / 3, &camera);
     EXPECT_NEAR(d.maxMetres, 0.05, 1e-7);
     EXPECT_NEAR(d.rmsMetres, 0.05 / std::sqrt(25.0), 1e-7);
+    // One vertex of 25 moved: the RMS on screen is a fifth of its pixels.
+    EXPECT_NEAR(d.rmsPixels, d.maxPixels / std::sqrt(25.0), 1e-9 * d.maxPixels);
+    EXPECT_GT(d.maxPixels, 0.0);
     // Without a camera: no pixels.
     EXPECT_EQ(meshDeviation(one.data(), reference.data(), reference.size() / 3).maxPixels, 0.0);
 }
@@ -95,6 +102,7 @@ TEST(ScreenError, VerticesBehindTheCameraAreLeftOutOfThePixels) {
     const std::vector<float> behindMoved = shifted(behind, Vec3(0.0, 0.01, 0.0));
     const MeshDeviation d = meshDeviation(behindMoved.data(), behind.data(), behind.size() / 3, &camera);
     EXPECT_EQ(d.maxPixels, 0.0);
+    EXPECT_EQ(d.rmsPixels, 0.0);
     EXPECT_NEAR(d.maxMetres, 0.01, 1e-7);
     EXPECT_TRUE(std::isfinite(d.rmsMetres));
 }

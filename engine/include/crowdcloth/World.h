@@ -291,6 +291,11 @@ struct ShadowCheckResult {
     double referenceCheckPx = 0.0;    ///< [px] the reference restarted at half its substeps, from
                                       ///< the reference, measured as measuredErrorPx: how far the
                                       ///< reference is resolved (errors below it are not)
+    double measuredRmsPx = 0.0;       ///< [px] root mean square of the on-screen distances of the
+                                      ///< copy's render vertices from the reference's (the largest
+                                      ///< over cameras): the garment's typical error, where
+                                      ///< measuredErrorPx is its worst vertex's
+    double referenceCheckRmsPx = 0.0; ///< [px] the same of the half-substep reference
 };
 
 /// What a restoreState may change of the saved run.

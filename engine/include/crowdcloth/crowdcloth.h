@@ -252,6 +252,7 @@ typedef struct cc_shadow_check_result {
     double screen_radius_px, predicted_error_px, measured_error_px;
     double measured_rms_metres, measured_max_metres;
     double reference_check_px;
+    double measured_rms_px, reference_check_rms_px;
 } cc_shadow_check_result;
 CC_API cc_status cc_world_set_shadow_check(cc_world* world, uint32_t garments, double window_seconds,
                                            uint32_t substeps, uint32_t iterations);
