@@ -1,4 +1,5 @@
 #include "GarmentInstance.h"
+#include "Stopwatch.h"
 
 #include "crowdcloth/cloth/ContactResponse.h"
 #include "crowdcloth/core/Hash.h"
@@ -10,15 +11,10 @@
 namespace cc::detail {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 constexpr double kMaxContactReach = 0.25;     ///< [m] most a contact query looks for the body
 constexpr int kCorrectionLimitPasses = 32;    ///< sweeps of the strain limit after the body's pushes
 constexpr double kSurfaceFraction = 0.05;     ///< of the thickness: where the last push puts a vertex
-
-double msSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 /// Targets of bound points on a host-skinned body: the barycentric point of the host's vertices
 /// plus the bind offset (no skeleton, so no rotation to carry it with).

@@ -1,4 +1,5 @@
 #include "WorldImpl.h"
+#include "Stopwatch.h"
 
 #include <algorithm>
 #include <chrono>
@@ -36,12 +37,6 @@ Status WorldDesc::validate() const {
 
 namespace detail {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 Status staleHandle(const char* what) {
     return Status::invalidArgument(std::string(what) + " is null, stale or from another world");
