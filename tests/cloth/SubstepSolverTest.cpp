@@ -341,28 +341,49 @@ TEST(SubstepSolver, FrictionOnAnInclineSticksBelowTheAngleAndSlidesAboveIt) {
     }
 }
 
+namespace {
+
+/// `whole` cut along its middle column into two panels side by side, the touching columns welded.
+struct CutSheet {
+    RectanglePanel left, right;
+    ClothMesh mesh;
+    uint32_t offset = 0;  ///< the right panel's first vertex in `mesh`
+    std::vector<std::array<uint32_t, 2>> welds;
+    std::array<uint32_t, 2> corners{};  ///< the far corners of the last row (where both hang)
+    Span<const uint32_t> hung() const { return {corners.data(), corners.size()}; }
+};
+
+CutSheet cutInHalves(const RectanglePanel& whole) {
+    CutSheet c;
+    c.left = whole;
+    c.left.columns = whole.columns / 2;
+    c.left.width = 0.5 * whole.width;
+    c.right = c.left;
+    c.right.origin.x() += c.left.width;
+    const ClothMesh a = c.left.build().value(), b = c.right.build().value();
+    c.mesh = a;
+    c.offset = uint32_t(a.vertexCount());
+    for (std::size_t v = 0; v < b.vertexCount(); ++v) {
+        c.mesh.positions.push_back(b.positions[v]);
+        c.mesh.restPositions.push_back(b.restPositions[v] + Vec2(c.left.width, 0.0));
+    }
+    for (const auto& t : b.triangles) c.mesh.triangles.push_back({t[0] + c.offset, t[1] + c.offset, t[2] + c.offset});
+    for (uint32_t j = 0; j <= c.left.rows; ++j)
+        c.welds.push_back({c.left.vertexIndex(c.left.columns, j), c.offset + c.right.vertexIndex(0, j)});
+    c.corners = {c.left.vertexIndex(0, c.left.rows), c.offset + c.right.vertexIndex(c.right.columns, c.right.rows)};
+    return c;
+}
+
+} // namespace
+
 TEST(SubstepSolver, WeldedCopiesMoveAsOnePoint) {
     // Two panels side by side whose touching columns are welded: the copies end every step at the
     // same position, and the pair hangs as one sheet (no gap opens along the weld).
-    RectanglePanel left = test::horizontalSheet(4);
-    left.width = 0.5;
-    RectanglePanel right = left;
-    right.origin.x() += 0.5;
-    const ClothMesh a = left.build().value(), b = right.build().value();
-    ClothMesh mesh = a;
-    const uint32_t offset = uint32_t(a.vertexCount());
-    for (std::size_t v = 0; v < b.vertexCount(); ++v) {
-        mesh.positions.push_back(b.positions[v]);
-        mesh.restPositions.push_back(b.restPositions[v] + Vec2(0.5, 0.0));
-    }
-    for (const auto& t : b.triangles) mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-    std::vector<std::array<uint32_t, 2>> welds;
-    for (uint32_t j = 0; j <= left.rows; ++j) welds.push_back({left.vertexIndex(left.columns, j), offset + right.vertexIndex(0, j)});
-    const uint32_t attached[] = {left.vertexIndex(0, left.rows), offset + right.vertexIndex(right.columns, right.rows)};
-    auto sim = SubstepSimulation::create(mesh, ClothMaterial{}, attached, welds).value();
-    EXPECT_EQ(sim->level().nodeCount(), mesh.vertexCount() - welds.size());
+    const CutSheet cut = cutInHalves(test::horizontalSheet(8));
+    auto sim = SubstepSimulation::create(cut.mesh, ClothMaterial{}, cut.hung(), cut.welds).value();
+    EXPECT_EQ(sim->level().nodeCount(), cut.mesh.vertexCount() - cut.welds.size());
     for (int step = 0; step < 60; ++step) ASSERT_TRUE(sim->step(1.0 / 60.0, SubstepSettings{}).isOk());
-    for (const auto& [p, q] : welds) EXPECT_EQ(sim->positions()[p], sim->positions()[q]);
+    for (const auto& [p, q] : cut.welds) EXPECT_EQ(sim->positions()[p], sim->positions()[q]);
     EXPECT_LT(sim->maxEdgeStrain(), 0.1);
 }
 
@@ -372,27 +393,12 @@ TEST(SubstepSolver, ASeamCarriesStressAndBendingAsTheUncutCloth) {
     // and bending act across a weld inside the solve (the copies are one node, the hinges across
     // the seam are the uncut sheet's), so both hang the same (to the solver's rounding: the nodes
     // are numbered differently).
-    RectanglePanel whole = test::horizontalSheet(8);
-    RectanglePanel left = whole;
-    left.columns = whole.columns / 2;
-    left.width = 0.5;
-    RectanglePanel right = left;
-    right.origin.x() += 0.5;
-    const ClothMesh a = left.build().value(), b = right.build().value();
-    ClothMesh cut = a;
-    const uint32_t offset = uint32_t(a.vertexCount());
-    for (std::size_t v = 0; v < b.vertexCount(); ++v) {
-        cut.positions.push_back(b.positions[v]);
-        cut.restPositions.push_back(b.restPositions[v] + Vec2(0.5, 0.0));
-    }
-    for (const auto& t : b.triangles) cut.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-    std::vector<std::array<uint32_t, 2>> welds;
-    for (uint32_t j = 0; j <= left.rows; ++j) welds.push_back({left.vertexIndex(left.columns, j), offset + right.vertexIndex(0, j)});
-    const uint32_t cutAttached[] = {left.vertexIndex(0, left.rows), offset + right.vertexIndex(right.columns, right.rows)};
+    const RectanglePanel whole = test::horizontalSheet(8);
+    const CutSheet cut = cutInHalves(whole);
     const uint32_t wholeAttached[] = {whole.vertexIndex(0, whole.rows), whole.vertexIndex(whole.columns, whole.rows)};
     ClothMaterial material;
     material.bendStiffness = 1e-3;  // folds that bending shapes, across the seam too
-    auto cutSim = SubstepSimulation::create(cut, material, cutAttached, welds).value();
+    auto cutSim = SubstepSimulation::create(cut.mesh, material, cut.hung(), cut.welds).value();
     auto wholeSim = SubstepSimulation::create(whole.build().value(), material, wholeAttached, {}).value();
     SubstepSettings settings;
     settings.iterations = 40;  // converged enough that the node order's rounding stays small
@@ -403,8 +409,8 @@ TEST(SubstepSolver, ASeamCarriesStressAndBendingAsTheUncutCloth) {
     double worst = 0.0, moved = 0.0;
     for (uint32_t j = 0; j <= whole.rows; ++j)
         for (uint32_t i = 0; i <= whole.columns; ++i) {
-            const bool inLeft = i <= left.columns;
-            const uint32_t v = inLeft ? left.vertexIndex(i, j) : offset + right.vertexIndex(i - left.columns, j);
+            const bool inLeft = i <= cut.left.columns;
+            const uint32_t v = inLeft ? cut.left.vertexIndex(i, j) : cut.offset + cut.right.vertexIndex(i - cut.left.columns, j);
             const Vec3& expected = wholeSim->positions()[whole.vertexIndex(i, j)];
             worst = std::max(worst, (cutSim->positions()[v] - expected).norm());
             moved = std::max(moved, (expected - whole.build().value().positions[whole.vertexIndex(i, j)]).norm());
