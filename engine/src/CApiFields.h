@@ -59,7 +59,8 @@
                 X(fail_safes, failSafes) X(failed, failed) X(screen_radius_px, screenRadiusPx)     \
                     X(predicted_error_px, predictedErrorPx) X(predicted_ms, predictedMs)           \
                         X(measured_ms, measuredMs) X(collision_ms, collisionMs)                    \
-                            X(max_strain, maxStrain) X(max_attachment_error, maxAttachmentError)
+                            X(max_strain, maxStrain) X(max_attachment_error, maxAttachmentError)      \
+                                X(self_collision_ms, selfCollisionMs)
 #define CC_SHADOW_RESULT_FIELDS(X)                                                                 \
     X(garment, garment)                                                                            \
     X(level, level) X(reference_level, referenceLevel) X(update_interval, updateInterval)          \

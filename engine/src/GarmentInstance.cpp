@@ -195,6 +195,7 @@ Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateRepor
     // within the update): the solve keeps its layers apart with their neighbours answering, and
     // finish()'s continuous resolve is left the rare pair the planes missed.
     if (context.selfCollision) {
+        const auto selfStart = Clock::now();
         if (Status s = prepareSelfCollision(); !s) return s;
         collision::SeparatingPlaneSettings planes;
         planes.thickness = mSelf.settings().thickness;
@@ -203,6 +204,7 @@ Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateRepor
         planes.acceleration = context.acceleration.norm();
         planes.solverOffset = mAsset->desc.thickness;  // the batch's contactThickness
         if (Status s = mSelf.separatingPlanes(mStepStart, mVelocities, context.dt, planes, mContacts); !s) return s;
+        outReport.selfCollisionMs = msSince(selfStart);
     }
     outReport.contacts = uint32_t(mContacts.size());
     outReport.collisionMs = msSince(start);
@@ -334,6 +336,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
     // the strain limit then brings the neighbours of what it moved along, and a second resolve
     // checks the limit's own moves, so the update ends free of crossings.
     if (context.selfCollision) {
+        const auto selfStart = Clock::now();
         if (Status s = prepareSelfCollision(); !s) return s;
         uint32_t moved = 0;
         if (Status s = resolveSelfCollision(inOutReport, &moved); !s) return s;
@@ -341,6 +344,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
             if (Status s = limitAroundMoved(strainSettings); !s) return s;
             if (Status s = resolveSelfCollision(inOutReport, nullptr); !s) return s;
         }
+        inOutReport.selfCollisionMs += msSince(selfStart);
     }
     if ((context.collider && !context.proxies) || context.selfCollision) weldCopies(level.active, mPositions, mVelocities);
     inOutReport.collisionMs += msSince(start);

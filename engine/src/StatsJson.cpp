@@ -48,7 +48,7 @@ std::string WorldImpl::statsJson() const {
             << (s.selfCollision ? "true" : "false") << ",\"contacts\":" << s.contacts << ",\"failSafes\":" << s.failSafes
             << ",\"failed\":" << (s.failed ? "true" : "false") << ",\"screenRadiusPx\":" << s.screenRadiusPx
             << ",\"errorPx\":" << s.predictedErrorPx << ",\"predictedMs\":" << s.predictedMs
-            << ",\"measuredMs\":" << s.measuredMs << ",\"collisionMs\":" << s.collisionMs
+            << ",\"measuredMs\":" << s.measuredMs << ",\"collisionMs\":" << s.collisionMs << ",\"selfCollisionMs\":" << s.selfCollisionMs
             << ",\"maxStrain\":" << s.maxStrain << ",\"maxAttachmentError\":" << s.maxAttachmentError << "}";
         first = false;
     });

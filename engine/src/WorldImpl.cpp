@@ -384,6 +384,7 @@ void WorldImpl::prepareGarment(const GarmentRef& item) {
     if (status) status = g.prepare(*item.character, report);
     stats.contacts = report.contacts;
     stats.collisionMs = report.collisionMs;
+    stats.selfCollisionMs = report.selfCollisionMs;
     if (!status) fail(g, status);
     stats.measuredMs = msSince(start);
 }
@@ -404,9 +405,11 @@ void WorldImpl::simulateBatch(Batch& batch) {
         Status result = status ? batch.reports[k].status : status;
         GarmentUpdateReport report;
         report.collisionMs = g.stats.collisionMs;
+        report.selfCollisionMs = g.stats.selfCollisionMs;
         if (result) result = g.finish(batch.settings, report);
         if (!result) fail(g, result);
         g.stats.collisionMs = report.collisionMs;
+        g.stats.selfCollisionMs = report.selfCollisionMs;
         g.stats.failSafes = report.failSafes;
         g.stats.substeps = uint32_t(batch.settings.substeps);
         g.stats.iterations = uint32_t(batch.settings.substeps * batch.settings.iterations);

@@ -91,9 +91,13 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
     auto* batch = app.add_flag("--batch", o.batch, "Study: 256 capes at level 3 stepped one by one and in batches");
     auto* snapshot = app.add_flag("--snapshot", o.snapshot, "Study: the crowd saved after 5 s, restored into a fresh "
                                                             "World, both run on 2 s (size, ms, identical frames)");
-    scaling->excludes(tradeoff)->excludes(batch)->excludes(snapshot);
-    tradeoff->excludes(batch)->excludes(snapshot);
-    batch->excludes(snapshot);
+    auto* self = app.add_flag("--self-collision", o.selfCollision, "Study: self-collision's cost per frame against "
+                                                                   "the garment's own solve, each garment kind at its "
+                                                                   "finest level seen close on a walk (--seconds)");
+    scaling->excludes(tradeoff)->excludes(batch)->excludes(snapshot)->excludes(self);
+    tradeoff->excludes(batch)->excludes(snapshot)->excludes(self);
+    batch->excludes(snapshot)->excludes(self);
+    snapshot->excludes(self);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

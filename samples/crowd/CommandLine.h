@@ -29,7 +29,7 @@ struct RunOptions {
     bool fullResolution = false;  ///< every garment at its finest level, every frame (no budget)
     int preset = -1;              ///< a cc::QualityPreset for the World; -1 = the default WorldDesc
     double churn = 0.0;           ///< [1/s] share of the crowd replaced per second (a soak's joins and leaves)
-    bool scaling = false, tradeoff = false, batch = false, snapshot = false;
+    bool scaling = false, tradeoff = false, batch = false, snapshot = false, selfCollision = false;
     int shadow = 8;               ///< --scaling: garments the shadow check follows at once (0 = off)
     double shadowWindow = 0.25;   ///< [s] --scaling: the shadow check's window
 };

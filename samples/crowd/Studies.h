@@ -48,5 +48,8 @@ int runTradeoff(const std::string& outDir, double seconds);
 int runBatchBench();
 /// A plaza crowd saved mid-run, restored into a fresh World, both run on (BAR snapshot).
 int runSnapshotStudy(int characters, int threads);
+/// Self-collision's cost against the garment's own solve, per garment kind seen close, over
+/// `seconds` of a walk (BAR selfcollision).
+int runSelfCollisionStudy(double seconds);
 
 } // namespace crowd

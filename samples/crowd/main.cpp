@@ -15,6 +15,7 @@
 //                        converged reference in restarted windows (OUT/tradeoff.csv, tradeoff.png)
 //   cc_crowd --batch     256 capes at level 3 stepped one by one and in batches (BAR batch)
 //   cc_crowd --snapshot  the crowd saved, restored into a fresh World, both run on (BAR snapshot)
+//   cc_crowd --self-collision --seconds 3  self-collision's cost against the solve (BAR selfcollision)
 //
 // Writes into --out (default crowd_out): frames/frame_NNNNN.png (every render-every frame, title
 // strip with the frame's numbers), crowd.mp4 (H.264 at 60/render-every fps, unless --no-video),
@@ -220,5 +221,6 @@ int main(int argc, char** argv) {
     if (o.tradeoff) return crowd::runTradeoff(o.out, o.scene.seconds);
     if (o.batch) return crowd::runBatchBench();
     if (o.snapshot) return crowd::runSnapshotStudy(o.scene.plaza.characters, o.threads);
+    if (o.selfCollision) return crowd::runSelfCollisionStudy(o.scene.seconds);
     return runCrowd(o);
 }

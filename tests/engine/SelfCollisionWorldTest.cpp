@@ -43,7 +43,7 @@ void weldedSurface(const RenderMeshView& mesh, std::vector<Vec3>& outPositions,
 
 struct SelfRun {
     int frames = 0, selfFrames = 0, worstIntersecting = 0, framesIntersecting = 0, failSafeFrames = 0;
-    double maxStrain = 0.0, solveMs = 0.0, collisionMs = 0.0;
+    double maxStrain = 0.0, solveMs = 0.0, collisionMs = 0.0, selfMs = 0.0;
     double deepest = 0.0;  ///< [m] deepest garment vertex inside the posed body, after 0.5 s
 };
 
@@ -75,6 +75,9 @@ SelfRun walk(const ClothAssetDesc& asset, bool selfCollision, double seconds) {
         run.maxStrain = std::max(run.maxStrain, stats.maxStrain);
         run.failSafeFrames += stats.failSafes > 0;
         run.collisionMs += stats.collisionMs;
+        run.selfMs += stats.selfCollisionMs;
+        EXPECT_LE(stats.selfCollisionMs, stats.collisionMs) << "frame " << frame << ": a part of the contacts' time";
+        EXPECT_EQ(stats.selfCollisionMs > 0.0, stats.selfCollision && stats.updated) << "frame " << frame;
         run.solveMs += stats.measuredMs - stats.collisionMs;
         weldedSurface(world->renderMesh(garment).value(), positions, triangles);
         const int crossing = test::countIntersectingPairs(positions, triangles);
@@ -90,9 +93,9 @@ SelfRun walk(const ClothAssetDesc& asset, bool selfCollision, double seconds) {
 
 void print(const char* name, const SelfRun& r) {
     std::printf("[ self-collision in the World: %s ] %d frames (%d with self-collision), intersecting pairs: worst %d, "
-                "in %d frames; impact zones in %d frames; max strain %.1f %%; deepest inside the body %.1f mm; per frame: solve %.2f ms, contacts and self-collision %.2f ms\n",
+                "in %d frames; impact zones in %d frames; max strain %.1f %%; deepest inside the body %.1f mm; per frame: solve %.2f ms, contacts and self-collision %.2f ms (self-collision %.2f)\n",
                 name, r.frames, r.selfFrames, r.worstIntersecting, r.framesIntersecting, r.failSafeFrames, 100 * r.maxStrain, 1e3 * r.deepest,
-                r.solveMs / std::max(1, r.frames), r.collisionMs / std::max(1, r.frames));
+                r.solveMs / std::max(1, r.frames), r.collisionMs / std::max(1, r.frames), r.selfMs / std::max(1, r.frames));
 }
 
 struct Case {

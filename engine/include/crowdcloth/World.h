@@ -238,6 +238,8 @@ struct GarmentStats {
     double predictedMs = 0.0;        ///< [ms] predicted cost of this frame's update
     double measuredMs = 0.0;         ///< [ms] measured (0 when not updated)
     double collisionMs = 0.0;        ///< [ms] of measuredMs spent on contacts
+    double selfCollisionMs = 0.0;    ///< [ms] of collisionMs spent on self-collision (the separating
+                                     ///< planes before the solve, the continuous resolve after it)
     double maxStrain = 0.0;          ///< [-] largest edge strain after the update
     double maxAttachmentError = 0.0; ///< [m] largest distance of an attached vertex from its skinned
                                      ///< target after the update

@@ -155,6 +155,7 @@ typedef struct cc_garment_stats {
     int32_t failed;
     double screen_radius_px, predicted_error_px, predicted_ms, measured_ms, collision_ms, max_strain;
     double max_attachment_error;  /* [m] */
+    double self_collision_ms;     /* [ms] of collision_ms spent on self-collision */
 } cc_garment_stats;
 
 typedef struct cc_frame_stats {
