@@ -110,8 +110,7 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
     }
     std::sort(halfEdges.begin(), halfEdges.end());
     self.mTriangleEdges.assign(triangles.size(), {0, 0, 0});
-    self.mOwnsVertex.assign(triangles.size(), 0);
-    self.mOwnsEdge.assign(triangles.size(), 0);
+    self.mOwned.assign(triangles.size(), {});
     for (const auto& h : halfEdges) {
         if (self.mEdges.empty() || self.mEdges.back()[0] != h[0] || self.mEdges.back()[1] != h[1]) {
             self.mEdges.push_back({h[0], h[1]});
@@ -119,7 +118,8 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
         self.mTriangleEdges[h[2] / 3][h[2] % 3] = static_cast<uint32_t>(self.mEdges.size() - 1);
         if (self.mEdgeTriangle.size() < self.mEdges.size()) {
             self.mEdgeTriangle.push_back(h[2] / 3);
-            self.mOwnsEdge[h[2] / 3] |= uint8_t(1u << (h[2] % 3));
+            Owned& owner = self.mOwned[h[2] / 3];
+            owner.edges[owner.edgeCount++] = static_cast<uint32_t>(self.mEdges.size() - 1);
         }
     }
     // Each vertex's owner: the first triangle that holds it.
@@ -128,7 +128,7 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
         for (int k = 0; k < 3; ++k)
             if (!owned[triangles[t][k]]) {
                 owned[triangles[t][k]] = 1;
-                self.mOwnsVertex[t] |= uint8_t(1u << k);
+                self.mOwned[t].vertices[self.mOwned[t].vertexCount++] = triangles[t][k];
             }
     for (uint32_t v = 0; v < vertexCount; ++v)
         if (!owned[v]) self.mLoneVertices.push_back(v);
@@ -171,13 +171,16 @@ void SelfCollision::hullBoxes(Span<const Aabb> vertexBoxes, double margin) {
         mBoxes[t].inflate(margin);
     }
     mEdgeBoxes.resize(mEdges.size());
-    for (std::size_t e = 0; e < mEdges.size(); ++e) mEdgeBoxes[e] = hull(mEdges[e]);
+    mGrownEdgeBoxes.resize(mEdges.size());
+    for (std::size_t e = 0; e < mEdges.size(); ++e) {
+        mEdgeBoxes[e] = hull(mEdges[e]);
+        mGrownEdgeBoxes[e] = mEdgeBoxes[e];
+        mGrownEdgeBoxes[e].inflate(margin);
+    }
 }
 
-bool SelfCollision::edgesOverlap(uint32_t e, uint32_t f, double margin) const {
-    Aabb grown = mEdgeBoxes[std::max(e, f)];
-    grown.inflate(margin);
-    return grown.overlaps(mEdgeBoxes[std::min(e, f)]);
+bool SelfCollision::edgesOverlap(uint32_t e, uint32_t f) const {
+    return mGrownEdgeBoxes[std::max(e, f)].overlaps(mEdgeBoxes[std::min(e, f)]);
 }
 
 void SelfCollision::fitTree() {
@@ -205,23 +208,18 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
         if (!hasVertex(mTriangles[t], v) && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
     };
     auto edgeEdge = [&](uint32_t e, uint32_t f) {
-        if (!shareVertex(mEdges[e], mEdges[f]) && edgesOverlap(e, f, margin))
+        if (!shareVertex(mEdges[e], mEdges[f]) && edgesOverlap(e, f))
             outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
-    };
-    auto ownedBy = [&](uint32_t t, uint32_t u) {
-        for (int k = 0; k < 3; ++k) {
-            if (mOwnsVertex[t] & (1u << k)) vertexTriangle(mTriangles[t][k], u);
-            if (!(mOwnsEdge[t] & (1u << k))) continue;
-            for (int j = 0; j < 3; ++j)
-                if (mOwnsEdge[u] & (1u << j)) edgeEdge(mTriangleEdges[t][k], mTriangleEdges[u][j]);
-        }
     };
     mTrianglePairs.clear();
     mBvh.overlappingPairs(mTrianglePairs);
     for (const auto& [t, u] : mTrianglePairs) {
-        ownedBy(t, u);
-        for (int k = 0; k < 3; ++k)
-            if (mOwnsVertex[u] & (1u << k)) vertexTriangle(mTriangles[u][k], t);
+        const Owned& a = mOwned[t];
+        const Owned& b = mOwned[u];
+        for (uint32_t k = 0; k < a.vertexCount; ++k) vertexTriangle(a.vertices[k], u);
+        for (uint32_t k = 0; k < b.vertexCount; ++k) vertexTriangle(b.vertices[k], t);
+        for (uint32_t k = 0; k < a.edgeCount; ++k)
+            for (uint32_t j = 0; j < b.edgeCount; ++j) edgeEdge(a.edges[k], b.edges[j]);
     }
     std::vector<uint32_t>& hits = mHits;
     for (uint32_t v : mLoneVertices) {
@@ -230,26 +228,26 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
         for (uint32_t t : hits) vertexTriangle(v, t);
     }
     // Sorted (each pair is found once): results do not depend on the tree's order.
-    sortPairs(outVertexTriangle, mVertexCount);
-    sortPairs(outEdgeEdge, uint32_t(mEdges.size()));
+    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
+    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
 }
 
-void SelfCollision::sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount) {
-    // Bucketed by the first index (a counting sort), each bucket a handful of pairs sorted in
-    // place: a general sort of tens of thousands of pairs cost more than the search that found them.
-    mBucketStart.assign(std::size_t(firstCount) + 1, 0);
-    for (const auto& p : pairs) ++mBucketStart[p[0] + 1];
-    for (uint32_t i = 0; i < firstCount; ++i) mBucketStart[i + 1] += mBucketStart[i];
+void SelfCollision::sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount,
+                              uint32_t secondCount) {
+    // Two stable counting sorts, by the second index and then by the first (an LSD radix sort):
+    // linear, where a general sort of tens of thousands of pairs cost more than the search that
+    // found them, and where sorting each first index's bucket by insertion took a tenth of the
+    // garment's self-collision (a vertex meets its triangles in the tree's order, not theirs).
     mSortedPairs.resize(pairs.size());
-    mBucketFill.assign(mBucketStart.begin(), mBucketStart.end() - 1);
-    for (const auto& p : pairs) mSortedPairs[mBucketFill[p[0]]++] = p;
-    for (uint32_t i = 0; i < firstCount; ++i) {
-        auto* begin = mSortedPairs.data() + mBucketStart[i];
-        auto* end = mSortedPairs.data() + mBucketStart[i + 1];
-        for (auto* a = begin + 1; a < end; ++a)  // insertion sort: buckets are short
-            for (auto* b = a; b > begin && (*b)[1] < (*(b - 1))[1]; --b) std::swap(*b, *(b - 1));
-    }
-    pairs.swap(mSortedPairs);
+    auto byIndex = [&](int which, uint32_t count, const std::vector<std::array<uint32_t, 2>>& from,
+                       std::vector<std::array<uint32_t, 2>>& to) {
+        mBucketStart.assign(std::size_t(count) + 1, 0);
+        for (const auto& p : from) ++mBucketStart[p[which] + 1];
+        for (uint32_t i = 0; i < count; ++i) mBucketStart[i + 1] += mBucketStart[i];
+        for (const auto& p : from) to[mBucketStart[p[which]]++] = p;
+    };
+    byIndex(1, secondCount, pairs, mSortedPairs);
+    byIndex(0, firstCount, mSortedPairs, pairs);
 }
 
 bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vertexBoxes, double margin,
@@ -280,51 +278,46 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
         if (!mEscaped[pair[0]] && !escapedTriangle(pair[1]) && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
             outVertexTriangle.push_back(pair);
     for (const auto& pair : cache.ee)
-        if (!escapedEdge(pair[0]) && !escapedEdge(pair[1]) && edgesOverlap(pair[0], pair[1], margin))
+        if (!escapedEdge(pair[0]) && !escapedEdge(pair[1]) && edgesOverlap(pair[0], pair[1]))
             outEdgeEdge.push_back(pair);
     if (mEscapedVertices.empty()) return true;  // sorted, as the cache's lists are
 
-    // Pairs with an escaped vertex, searched in the tree refit to the current boxes. Each vertex or
-    // edge box lies in its owning triangle's grown box, so a query finds its owner.
+    // Pairs with an escaped vertex, from one descent of the tree (refit to the current boxes)
+    // through the triangles holding one: every vertex and edge is met through its owner, which
+    // holds it, so such a pair comes from a triangle pair with an escaped triangle in it.
     fitTree();
-    std::vector<uint32_t>& hits = mHits;
-    for (uint32_t v : mEscapedVertices) {  // an escaped vertex against every triangle
-        hits.clear();
-        mBvh.query(vertexBoxes[v], hits);
-        for (uint32_t t : hits)
-            if (!hasVertex(mTriangles[t], v)) outVertexTriangle.push_back({v, t});
-    }
-    for (uint32_t t = 0; t < mTriangles.size(); ++t) {  // a triangle with one against the other vertices
-        if (!escapedTriangle(t)) continue;
-        auto vertexAgainst = [&](uint32_t w) {
-            if (!mEscaped[w] && !hasVertex(mTriangles[t], w) && mBoxes[t].overlaps(vertexBoxes[w]))
-                outVertexTriangle.push_back({w, t});
-        };
-        hits.clear();
-        mBvh.query(mBoxes[t], hits);
-        for (uint32_t u : hits)
-            for (int k = 0; k < 3; ++k)
-                if (mOwnsVertex[u] & (1u << k)) vertexAgainst(mTriangles[u][k]);
-        for (uint32_t w : mLoneVertices) vertexAgainst(w);
-    }
-    for (uint32_t e = 0; e < mEdges.size(); ++e) {  // an edge with one against every edge
-        if (!escapedEdge(e)) continue;
-        const auto& a = mEdges[e];
-        Aabb reach = mEdgeBoxes[e];
-        reach.inflate(margin);
-        hits.clear();
-        mBvh.query(reach, hits);
-        for (uint32_t u : hits)
-            for (int k = 0; k < 3; ++k) {
-                if (!(mOwnsEdge[u] & (1u << k))) continue;
-                const uint32_t f = mTriangleEdges[u][k];
-                if (escapedEdge(f) && f < e) continue;  // that pair is found from f
-                if (shareVertex(a, mEdges[f])) continue;
-                if (edgesOverlap(e, f, margin)) outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
+    mEscapedTriangle.resize(mTriangles.size());
+    for (uint32_t t = 0; t < mTriangles.size(); ++t) mEscapedTriangle[t] = escapedTriangle(t);
+    auto vertexTriangle = [&](uint32_t v, uint32_t t) {
+        if ((mEscaped[v] || mEscapedTriangle[t]) && !hasVertex(mTriangles[t], v) && mBoxes[t].overlaps(vertexBoxes[v]))
+            outVertexTriangle.push_back({v, t});
+    };
+    mTrianglePairs.clear();
+    mBvh.overlappingPairs(mEscapedTriangle, mTrianglePairs);
+    for (const auto& [t, u] : mTrianglePairs) {
+        const Owned& a = mOwned[t];
+        const Owned& b = mOwned[u];
+        for (uint32_t k = 0; k < a.vertexCount; ++k) vertexTriangle(a.vertices[k], u);
+        for (uint32_t k = 0; k < b.vertexCount; ++k) vertexTriangle(b.vertices[k], t);
+        for (uint32_t k = 0; k < a.edgeCount; ++k)
+            for (uint32_t j = 0; j < b.edgeCount; ++j) {
+                const uint32_t e = a.edges[k], f = b.edges[j];
+                if ((escapedEdge(e) || escapedEdge(f)) && !shareVertex(mEdges[e], mEdges[f]) && edgesOverlap(e, f))
+                    outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
             }
     }
-    sortPairs(outVertexTriangle, mVertexCount);
-    sortPairs(outEdgeEdge, uint32_t(mEdges.size()));
+    std::vector<uint32_t>& hits = mHits;
+    for (uint32_t v : mLoneVertices) {  // vertices of no triangle have no owner
+        if (mEscaped[v]) {
+            hits.clear();
+            mBvh.query(vertexBoxes[v], hits);
+            for (uint32_t t : hits) outVertexTriangle.push_back({v, t});
+        } else {
+            for (uint32_t t = 0; t < mTriangles.size(); ++t) vertexTriangle(v, t);
+        }
+    }
+    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
+    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
     return true;
 }
 

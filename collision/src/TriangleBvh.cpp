@@ -95,21 +95,43 @@ void TriangleBvh::query(const Aabb& query, std::vector<uint32_t>& outHits) const
     }
 }
 
-void TriangleBvh::overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs) {
+void TriangleBvh::overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs) { descend({}, outPairs); }
+
+void TriangleBvh::overlappingPairs(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs) {
+    if (marked.size() != mOrder.size()) return;
+    // Which nodes hold a marked primitive: children follow their parents, so sweep backwards.
+    mNodeMarked.assign(mNodes.size(), 0);
+    for (std::size_t n = mNodes.size(); n-- > 0;) {
+        const Node& node = mNodes[n];
+        uint8_t any = 0;
+        if (node.count > 0) {
+            for (uint32_t i = node.first; i < node.first + node.count; ++i) any |= marked[mOrder[i]] != 0;
+        } else {
+            any = mNodeMarked[node.first] | mNodeMarked[node.first + 1];
+        }
+        mNodeMarked[n] = any;
+    }
+    descend(marked, outPairs);
+}
+
+void TriangleBvh::descend(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs) {
     if (mNodes.empty()) return;
+    const bool all = marked.empty();
+    auto wanted = [&](uint32_t i, uint32_t j) { return all || marked[i] || marked[j]; };
     std::vector<std::array<uint32_t, 2>>& stack = mPairStack;
     stack.clear();
     stack.push_back({0, 0});
     while (!stack.empty()) {
         const auto [ia, ib] = stack.back();
         stack.pop_back();
+        if (!all && !mNodeMarked[ia] && !mNodeMarked[ib]) continue;
         const Node& a = mNodes[ia];
         const Node& b = mNodes[ib];
         if (ia == ib) {
             if (a.count > 0) {
                 for (uint32_t i = a.first; i < a.first + a.count; ++i)
                     for (uint32_t j = i + 1; j < a.first + a.count; ++j)
-                        if (mBoxes[mOrder[i]].overlaps(mBoxes[mOrder[j]]))
+                        if (wanted(mOrder[i], mOrder[j]) && mBoxes[mOrder[i]].overlaps(mBoxes[mOrder[j]]))
                             outPairs.push_back({std::min(mOrder[i], mOrder[j]), std::max(mOrder[i], mOrder[j])});
             } else {
                 stack.push_back({a.first, a.first});
@@ -122,7 +144,7 @@ void TriangleBvh::overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPair
         if (a.count > 0 && b.count > 0) {
             for (uint32_t i = a.first; i < a.first + a.count; ++i)
                 for (uint32_t j = b.first; j < b.first + b.count; ++j)
-                    if (mBoxes[mOrder[i]].overlaps(mBoxes[mOrder[j]]))
+                    if (wanted(mOrder[i], mOrder[j]) && mBoxes[mOrder[i]].overlaps(mBoxes[mOrder[j]]))
                         outPairs.push_back({std::min(mOrder[i], mOrder[j]), std::max(mOrder[i], mOrder[j])});
         } else if (b.count > 0 || (a.count == 0 && ia < ib)) {
             // Descend the inner node (the earlier one when both are inner: it is the larger).

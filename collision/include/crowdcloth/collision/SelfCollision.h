@@ -158,10 +158,12 @@ private:
     void fitTree();
     /// mBoxes (each triangle's hull of its vertices' boxes, grown by margin) and mEdgeBoxes.
     void hullBoxes(Span<const Aabb> vertexBoxes, double margin);
-    /// The broad phase's box test of two edges, the same whichever is named first.
-    bool edgesOverlap(uint32_t e, uint32_t f, double margin) const;
-    /// Sorts pairs whose first index is below firstCount, without allocating once warm.
-    void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount);
+    /// The broad phase's box test of two edges (their boxes of the last hullBoxes(), one grown by its
+    /// margin), the same whichever is named first.
+    bool edgesOverlap(uint32_t e, uint32_t f) const;
+    /// Sorts pairs (first index below firstCount, second below secondCount), without allocating
+    /// once warm.
+    void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount, uint32_t secondCount);
     /// candidates(x0, x1, margin): from the pairs separatingPlanes() found for the same x0 where
     /// they serve, else a new search (counted in stats.broadPhases).
     void sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
@@ -180,16 +182,21 @@ private:
     std::vector<std::array<uint32_t, 2>> mEdges;          ///< sorted, a < b
     std::vector<std::array<uint32_t, 3>> mTriangleEdges;  ///< edge indices of each triangle
     std::vector<uint32_t> mEdgeTriangle;                 ///< the first triangle (by index) of each edge
-    std::vector<uint8_t> mOwnsVertex, mOwnsEdge;  ///< per triangle: which of its corners / edges it owns
-                                                  ///< (the first triangle holding each), for the broad phase
+    /// The vertices and edges a triangle owns (it is the first triangle holding them): the broad
+    /// phase meets each vertex and edge through its owner only.
+    struct Owned {
+        uint32_t vertexCount = 0, edgeCount = 0;
+        std::array<uint32_t, 3> vertices{}, edges{};
+    };
+    std::vector<Owned> mOwned;
     std::vector<uint32_t> mLoneVertices;          ///< vertices of no triangle
     std::vector<std::array<uint32_t, 2>> mTrianglePairs, mSortedPairs;  ///< broad-phase scratch
-    std::vector<uint32_t> mBucketStart, mBucketFill;                    ///< sortPairs' scratch
+    std::vector<uint32_t> mBucketStart;                                 ///< sortPairs' scratch
     TriangleBvh mBvh;
     bool mBvhBuilt = false;
     // Per-step scratch.
     std::vector<double> mInvMass;
-    std::vector<Aabb> mBoxes, mEdgeBoxes;
+    std::vector<Aabb> mBoxes, mEdgeBoxes, mGrownEdgeBoxes;
     std::vector<uint32_t> mHits;
     std::vector<Vec3> mReachEnd;                              ///< separatingPlanes: x0 + lookahead motion
     std::vector<std::array<uint32_t, 2>> mPairsVf, mPairsEe;  ///< applyProximity's, findCollisions' candidates
@@ -198,6 +205,7 @@ private:
     PairCache mUpdate;
     std::vector<Vec3> mUpdateStart;  ///< the x0 mUpdate is for
     std::vector<uint8_t> mEscaped;   ///< pairsFromCache: per vertex, 1 = outside its cached box
+    std::vector<uint8_t> mEscapedTriangle;  ///< pairsFromCache: per triangle, 1 = holds an escaped vertex
     std::vector<uint32_t> mEscapedVertices;
     std::vector<Contact> mPlanes;       ///< separatingPlanes: kPlanesPerVertex slots per vertex
     std::vector<uint8_t> mPlaneCount;   ///< slots in use per vertex

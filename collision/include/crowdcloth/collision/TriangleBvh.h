@@ -22,10 +22,11 @@ struct Aabb {
         lo.array() -= margin;
         hi.array() += margin;
     }
-    /// Closed test: boxes that only touch overlap.
+    /// Closed test: boxes that only touch overlap. Without short circuits: the broad phases ask it
+    /// of neighbours about as often true as false, where a branch per axis is mispredicted.
     bool overlaps(const Aabb& o) const {
-        return lo.x() <= o.hi.x() && o.lo.x() <= hi.x() && lo.y() <= o.hi.y() && o.lo.y() <= hi.y() &&
-               lo.z() <= o.hi.z() && o.lo.z() <= hi.z();
+        return (lo.x() <= o.hi.x()) & (o.lo.x() <= hi.x()) & (lo.y() <= o.hi.y()) & (o.lo.y() <= hi.y()) &
+               (lo.z() <= o.hi.z()) & (o.lo.z() <= hi.z());
     }
 };
 
@@ -52,6 +53,10 @@ public:
     /// tree against itself (unsorted). Far cheaper than a query() per primitive: each pair of
     /// overlapping nodes is visited once instead of every primitive walking down from the root.
     void overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs);
+    /// The same pairs less those where neither primitive is marked (`marked[i]` != 0, one flag per
+    /// primitive): the descent skips node pairs without a marked primitive, so a few marked
+    /// primitives cost far less than a query each.
+    void overlappingPairs(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs);
 
     uint32_t primitiveCount() const { return static_cast<uint32_t>(mOrder.size()); }
 
@@ -68,6 +73,9 @@ private:
     std::vector<uint32_t> mOrder;  ///< primitive indices, leaves own contiguous ranges
     std::vector<Aabb> mBoxes;      ///< primitive boxes of the last build/refit
     std::vector<std::array<uint32_t, 2>> mPairStack;  ///< overlappingPairs' node pairs
+    std::vector<uint8_t> mNodeMarked;                 ///< overlappingPairs' per node: holds a marked one
+    /// The descent of overlappingPairs; `marked` empty = every pair.
+    void descend(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs);
 };
 
 } // namespace cc::collision
