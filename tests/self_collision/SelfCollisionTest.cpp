@@ -95,7 +95,8 @@ TEST(SelfCollisionBroadPhase, RandomSoupCandidatesIncludeAllBruteForcePairs) {
 
 TEST(SelfCollisionBroadPhase, TheTreeAgainstItselfFindsExactlyTheOverlappingPairs) {
     // Boxes of mixed sizes (a few large, as a fast vertex's), refit after moving: the self-descent
-    // returns each overlapping pair once, and nothing else.
+    // returns each overlapping pair once, and nothing else; asked for the pairs of marked
+    // primitives only, exactly those.
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     auto randomBoxes = [&](std::size_t n) {
@@ -123,6 +124,17 @@ TEST(SelfCollisionBroadPhase, TheTreeAgainstItselfFindsExactlyTheOverlappingPair
                 if (boxes[a].overlaps(boxes[b])) expected.push_back({a, b});
         EXPECT_GT(expected.size(), 500u);
         EXPECT_EQ(pairs, expected);
+        // With a few primitives marked (as vertices that left their cached boxes mark theirs): the
+        // same pairs less those where neither is marked.
+        std::vector<uint8_t> marked(boxes.size(), 0);
+        for (uint8_t& m : marked) m = unit(rng) < 0.05;
+        std::vector<std::array<uint32_t, 2>> markedPairs, expectedMarked;
+        bvh.overlappingPairs(marked, markedPairs);
+        std::sort(markedPairs.begin(), markedPairs.end());
+        for (const auto& p : expected)
+            if (marked[p[0]] || marked[p[1]]) expectedMarked.push_back(p);
+        EXPECT_GT(expectedMarked.size(), 10u);
+        EXPECT_EQ(markedPairs, expectedMarked);
     }
 }
 
