@@ -298,6 +298,8 @@ Status WorldImpl::scheduleFrame(double dt) {
             lp.costMs[int(newton)] = solve;
             for (auto detail : {lod::CollisionDetail::Mesh, lod::CollisionDetail::MeshContinuous})
                 lp.collisionCostMs[int(detail)] = std::max(0.0, predict(detail) - solve);
+            // Counted in the budget wherever the scheduler turns it on (a World without it never does).
+            lp.selfCollisionCostMs = mDesc.selfCollision ? mCostModel.predictSelfCollisionMs(handle.index1, int(l), n) : 0.0;
             profile.levels[l] = lp;
         }
     });
@@ -681,8 +683,12 @@ Status WorldImpl::endStep() {
         s.predictedErrorPx = sc.predictedErrorPx;
         s.predictedMs = sc.updateInterval > 0 ? sc.predictedCostMs * sc.updateInterval : 0.0;
         if (s.updated) {
-            if (!s.failed && !s.levelSwitched && !item.character->meshColliderRebuiltAt(mTime))
-                mCostModel.record(g.assetIndex(), g.level(), sc.solver, sc.collision, s.measuredMs);
+            if (!s.failed && !s.levelSwitched && !item.character->meshColliderRebuiltAt(mTime)) {
+                // Self-collision learned apart: only garments seen large take it, and it costs 1-4
+                // solves, which would inflate every other update of the level's entry.
+                mCostModel.record(g.assetIndex(), g.level(), sc.solver, sc.collision, s.measuredMs - s.selfCollisionMs);
+                if (s.selfCollision) mCostModel.recordSelfCollision(g.assetIndex(), g.level(), s.selfCollisionMs);
+            }
             ++fs.updated;
             fs.predictedCpuMs += s.predictedMs;
             fs.measuredCpuMs += s.measuredMs;

@@ -18,7 +18,7 @@ namespace {
 
 constexpr char kMagic[8] = {'C', 'C', 'W', 'O', 'R', 'L', 'D', '\x1a'};  // 0x1a: text-mode copies break it
 /// Bump on any change to what is written; a snapshot of another version is refused by name.
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;
 constexpr uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = kSnapshotHeaderBytes;
 
@@ -361,7 +361,7 @@ Result<std::vector<uint8_t>> WorldImpl::saveState() const {
     w.put(uint64_t(learned.size()));
     for (const auto& e : learned)
         w.put(e.asset), w.put(int32_t(e.level)), w.put(uint8_t(e.solver)), w.put(uint8_t(e.collision)),
-            w.put(e.meanMs), w.put(e.deviationMs);
+            w.put(e.meanMs), w.put(e.deviationMs), w.put(uint8_t(e.selfCollision));
 
     w.tag("CHAR");
     putLayout(w, mCharacters);
@@ -506,11 +506,11 @@ Status WorldImpl::restoreState(const void* data, std::size_t size, RestoreMode m
     }
     if (r.ok() && !(frameBudget > 0.0 && budgetScale > 0.0)) r.fail("the budget is out of range");
     r.expectTag("COST");
-    std::vector<lod::CostModel::LearnedCost> learned(r.count(18));
+    std::vector<lod::CostModel::LearnedCost> learned(r.count(19));
     for (auto& e : learned) {
         e.asset = r.get<uint32_t>(), e.level = r.get<int32_t>();
         e.solver = lod::SolverChoice(r.get<uint8_t>()), e.collision = lod::CollisionDetail(r.get<uint8_t>());
-        e.meanMs = r.get<double>(), e.deviationMs = r.get<double>();
+        e.meanMs = r.get<double>(), e.deviationMs = r.get<double>(), e.selfCollision = r.get<uint8_t>() != 0;
     }
     lod::CostModel costModel = mCostModel;
     if (r.ok())

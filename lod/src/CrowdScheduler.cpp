@@ -36,6 +36,8 @@ Status validateInputs(std::vector<uint64_t>& ids, const SchedulerSettings& setti
             for (double cost : level.collisionCostMs)
                 if (!std::isfinite(cost) || cost < 0.0)
                     return Status::invalidArgument(at() + ": collisionCostMs must be finite and >= 0");
+            if (!std::isfinite(level.selfCollisionCostMs) || level.selfCollisionCostMs < 0.0)
+                return Status::invalidArgument(at() + ": selfCollisionCostMs must be finite and >= 0");
             bool offered = false;
             for (double cost : level.costMs) {
                 if (!std::isfinite(cost))
@@ -87,6 +89,7 @@ struct GarmentView {
     double pixelsPerMetre = 0.0;
     double lagMetresPerFrame2 = 0.0; ///< [m] lag of one extrapolated frame, times frames^2
     CollisionDetail collision = CollisionDetail::None;
+    bool largeForSelfCollision = false;  ///< seen at least selfCollisionRadiusPx large (hysteresis)
     Choice choice;
 
     int levelCount() const { return static_cast<int>(profile->levels.size()); }
@@ -95,7 +98,8 @@ struct GarmentView {
         double best = 0.0;
         for (double cost : l.costMs)
             if (cost > 0.0 && (best == 0.0 || cost < best)) best = cost;
-        return best + l.collisionCostMs[static_cast<int>(collision)];
+        const bool self = largeForSelfCollision && level >= levelCount() - 2;  // wantsSelfCollision
+        return best + l.collisionCostMs[static_cast<int>(collision)] + (self ? l.selfCollisionCostMs : 0.0);
     }
     double cost(const Choice& c) const { return asleep ? 0.0 : stepCost(c.level) / c.interval; }
     double levelErrorPx(int level) const { return profile->levels[level].errorMetres * pixelsPerMetre; }
@@ -460,6 +464,8 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
         g.asleep = !g.visible && r.atRest;
         g.lagMetresPerFrame2 = 0.5 * settings.typicalAcceleration * r.speed * settings.frameDt * settings.frameDt;
         g.collision = collisionFor(g, settings);
+        g.largeForSelfCollision = g.visible && atLeast(r.radius * g.pixelsPerMetre, settings.selfCollisionRadiusPx,
+                                                       r.previous.selfCollision, settings.hysteresis);
         g.choice = toleranceChoice(g, settings);
         if (settings.refineWithSlack) keepSpentSlack(g);
     }

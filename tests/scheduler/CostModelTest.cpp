@@ -60,6 +60,34 @@ TEST(CostModel, EachCollisionDetailLearnsItsOwnCost) {
                      proxies + c.collisionPerUpdateMs[2] + 100 * c.collisionPerVertexMs[2]);
 }
 
+TEST(CostModel, SelfCollisionLearnsApartAndSurvivesASnapshot) {
+    // Self-collision's time is learned in an entry of its own per level, seeded per vertex; the
+    // update's entry of the same level does not move, and learned() / setLearned() carry both.
+    CostCoefficients c;
+    CostModel model(CostModel::Mode::Learned, c);
+    EXPECT_DOUBLE_EQ(model.predictSelfCollisionMs(1, 4, 500), 500 * c.selfCollisionPerVertexMs);
+    for (int i = 0; i < 200; ++i) {
+        model.record(1, 4, SolverChoice::SubstepNewton, CollisionDetail::Mesh, 1.0);
+        model.recordSelfCollision(1, 4, 3.0);
+    }
+    EXPECT_NEAR(model.predictSelfCollisionMs(1, 4, 500), 3.0, 1e-9);
+    EXPECT_NEAR(model.predictMs(1, 4, SolverChoice::SubstepNewton, CollisionDetail::Mesh, 500, 4, 4), 1.0, 1e-9);
+    EXPECT_DOUBLE_EQ(model.predictSelfCollisionMs(1, 3, 500), 500 * c.selfCollisionPerVertexMs) << "another level";
+
+    const auto entries = model.learned();
+    ASSERT_EQ(entries.size(), 2u);
+    CostModel restored(CostModel::Mode::Learned, c);
+    ASSERT_TRUE(restored.setLearned(entries).isOk());
+    EXPECT_EQ(restored.predictSelfCollisionMs(1, 4, 500), model.predictSelfCollisionMs(1, 4, 500));
+    auto bad = entries;
+    for (auto& e : bad)
+        if (e.selfCollision) e.collision = CollisionDetail::Mesh;  // a self-collision entry names no detail
+    EXPECT_FALSE(restored.setLearned(bad).isOk());
+    CostModel fixed(CostModel::Mode::Fixed, c);
+    fixed.recordSelfCollision(1, 4, 3.0);
+    EXPECT_DOUBLE_EQ(fixed.predictSelfCollisionMs(1, 4, 500), 500 * c.selfCollisionPerVertexMs);
+}
+
 TEST(CostModel, ValidateNamesTheField) {
     CostCoefficients c;
     c.learningRate = 0.0;

@@ -263,6 +263,30 @@ TEST(CrowdScheduler, CollisionDetailFollowsScreenSizeAndSpeed) {
     EXPECT_FALSE(out[2].selfCollision);
 }
 
+TEST(CrowdScheduler, CountsSelfCollisionsCostWhereItIsOn) {
+    // Self-collision is taken by a garment seen large at one of its finest two levels: its cost
+    // joins that garment's prediction there, nowhere else, and a budget that fits the garment only
+    // without it is kept (the crowd pays for it with accuracy where it costs least).
+    GarmentProfile selfCosts = fiveLevels();
+    for (LevelProfile& level : selfCosts.levels) level.selfCollisionCostMs = 2.0;
+    const std::vector<GarmentRequest> requests = {garmentAt(0, 0.6, 3.0), garmentAt(1, 80.0, 3.0)};
+    SchedulerSettings settings = unlimited();
+    settings.pixelTolerance = 1e-6;  // the finest level, every frame, everywhere
+    const auto plain = schedule(settings, requests), costly = schedule(settings, requests, selfCosts);
+    ASSERT_EQ(costly[0].level, 4);
+    ASSERT_EQ(costly[0].updateInterval, 1);
+    ASSERT_TRUE(costly[0].selfCollision);
+    EXPECT_DOUBLE_EQ(costly[0].predictedCostMs, plain[0].predictedCostMs + 2.0);
+    EXPECT_FALSE(costly[1].selfCollision);
+    EXPECT_DOUBLE_EQ(costly[1].predictedCostMs, plain[1].predictedCostMs) << "small on screen: no self-collision";
+
+    settings.budgetMs = plain[0].predictedCostMs + plain[1].predictedCostMs + 1.0;  // short of the 2 ms
+    const auto tight = schedule(settings, requests, selfCosts);
+    EXPECT_LE(tight[0].predictedCostMs + tight[1].predictedCostMs, settings.budgetMs * (1 + 1e-12));
+    const double solve = fiveLevels().levels[tight[0].level].costMs[0];
+    EXPECT_DOUBLE_EQ(tight[0].predictedCostMs * tight[0].updateInterval, solve + (tight[0].selfCollision ? 2.0 : 0.0));
+}
+
 TEST(CrowdScheduler, CountsTheCollisionDetailsCostInTheBudget) {
     // The same near garment, with and without a body-mesh cost on top of its solve: its predicted
     // cost carries the mesh's, and under one budget the crowd around it gets coarser to pay for it.

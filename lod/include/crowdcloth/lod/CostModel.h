@@ -21,6 +21,9 @@ struct CostCoefficients {
     /// queries and refits, measured on the 5,776-triangle mannequin; capsules are in the above)
     double collisionPerUpdateMs[kCollisionDetailCount] = {0.0, 0.0, 0.5, 0.5};
     double collisionPerVertexMs[kCollisionDetailCount] = {0.0, 0.0, 5e-3, 1.2e-2};
+    /// [ms] per vertex of one update's self-collision (seed: 2.3-6.2 us per vertex measured on the
+    /// walking mannequin at the finest levels, `cc_crowd --self-collision`)
+    double selfCollisionPerVertexMs = 3e-3;
     double learningRate = 0.1;  ///< [-] weight of a new measurement in the average; (0, 1]
     double spread = 0.5;        ///< [-] learned prediction = mean + spread x mean absolute deviation; [0, 10]
 };
@@ -52,6 +55,11 @@ public:
                      std::size_t vertexCount, int substeps, int iterations) const;
     /// Feeds a measured update time [ms] (ignored in Fixed mode, and when not finite or <= 0).
     void record(uint32_t asset, int level, SolverChoice solver, CollisionDetail collision, double measuredMs);
+    /// [ms] what self-collision adds to one update at `level` (learned apart from the update's
+    /// own cost: only garments seen large take it, and it costs 1-4 solves).
+    double predictSelfCollisionMs(uint32_t asset, int level, std::size_t vertexCount) const;
+    /// Feeds a measured self-collision time [ms], as record() does.
+    void recordSelfCollision(uint32_t asset, int level, double measuredMs);
 
     /// One learned prediction, for snapshots (World::saveState): what record() has averaged.
     struct LearnedCost {
@@ -61,6 +69,8 @@ public:
         CollisionDetail collision = CollisionDetail::None;
         double meanMs = 0.0;       ///< [ms] > 0
         double deviationMs = 0.0;  ///< [ms] >= 0
+        bool selfCollision = false;  ///< self-collision's own cost at the level (solver and
+                                     ///< collision then unused: Newton, None)
     };
     /// Every learned entry, in key order.
     std::vector<LearnedCost> learned() const;
@@ -77,7 +87,9 @@ private:
         double mean = 0.0;       ///< [ms]
         double deviation = 0.0;  ///< [ms] mean absolute deviation
     };
-    std::map<std::tuple<uint32_t, int, int, int>, Learned> mLearned;  ///< asset, level, solver, collision
+    using Key = std::tuple<uint32_t, int, int, int, int>;  ///< asset, level, solver, collision, self-collision
+    void learn(const Key& key, double measuredMs);
+    std::map<Key, Learned> mLearned;
 };
 
 } // namespace cc::lod

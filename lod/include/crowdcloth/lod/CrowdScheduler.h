@@ -43,6 +43,9 @@ struct LevelProfile {
                                ///< cost 10-30x the capsules a solver cost is measured with); >= 0
     int substeps = 4;          ///< [-] solver substeps per update; >= 1
     int iterations = 4;        ///< [-] solver iterations per substep; >= 1
+    double selfCollisionCostMs = 0.0;  ///< [ms] added to one update by self-collision, which a
+                               ///< garment seen large takes at the finest two levels
+                               ///< (wantsSelfCollision): counted in the budget wherever it is on; >= 0
 };
 
 /// The levels of one asset, coarsest first.
