@@ -546,6 +546,18 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
     std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
     sweptCandidates(x0, x1, mSettings.ccdGap, vf, ee, stats);
     const std::size_t total = vf.size() + ee.size();
+    // A pass after the first re-tests only pairs with a vertex the last pass's impulses or zones
+    // moved, or one in a collision then: a test depends on its four vertices' x0 and x1 alone, so
+    // any other pair tested clear last time is clear now (and was a candidate then, as its boxes
+    // are the same). The fail-safe's dozens of passes cost little more than the first.
+    const bool again = mPassCount > 0;
+    mChanged.resize(mVertexCount);
+    for (uint32_t v = 0; v < mVertexCount; ++v) {
+        mChanged[v] = !again || mInLastCollision[v] || !(x1[v] == mLastEnd[v]);
+        mInLastCollision[v] = 0;
+    }
+    mLastEnd.assign(x1.begin(), x1.end());
+    ++mPassCount;
     std::vector<Collision>& found = mFound;
     std::vector<uint8_t>& status = mStatus;  // 0 none, 1 contact, 2 contact with capped search
     std::vector<uint32_t>& boxes = mBoxCounts;
@@ -564,9 +576,9 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
                 const auto& pair = ee[k - vf.size()];
                 ids = {mEdges[pair[0]][0], mEdges[pair[0]][1], mEdges[pair[1]][0], mEdges[pair[1]][1]};
             }
-            bool moving = false;
-            for (uint32_t v : ids) moving = moving || x1[v] != x0[v];
-            if (!moving) continue;  // a pair that does not move cannot start to cross
+            bool moving = false, changed = false;
+            for (uint32_t v : ids) moving = moving || x1[v] != x0[v], changed = changed || mChanged[v];
+            if (!moving || !changed) continue;  // a pair that does not move cannot start to cross
             std::array<Vec3, 4> start, finish;
             for (int i = 0; i < 4; ++i) {
                 start[i] = x0[ids[i]];
@@ -648,6 +660,7 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
         if (status[k] == 0) continue;
         if (status[k] == 2) ++stats.cappedTests;
         outCollisions.push_back(found[k]);
+        for (uint32_t v : found[k].vertices) mInLastCollision[v] = 1;
     }
 }
 
@@ -756,6 +769,8 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     }
     SelfCollisionStats& stats = outStats;
     const Span<const Vec3> x1View(x1.data(), x1.size());
+    mPassCount = 0;  // findCollisions' first pass tests every pair
+    mInLastCollision.assign(mVertexCount, 0);
     if (mSettings.proximityPass) applyProximity(x0, x1, stats);
 
     std::vector<Collision>& collisions = mCollisions;

@@ -128,6 +128,9 @@ cc::WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLim
     desc.substeps = substeps;
     desc.solverIterations = iterations;
     desc.strainLimit = strainLimit;
+    // The study sweeps the solve's knobs against a reference that runs without self-collision;
+    // what self-collision costs is measured apart (cc_crowd --self-collision).
+    desc.selfCollision = false;
     return desc;
 }
 

@@ -59,8 +59,11 @@ struct CC_API WorldDesc {
                                       ///< to the attachments); 0 = off; [0, 10]
     bool selfCollision = false;       ///< let the scheduler turn garment self-collision on for the largest
                                       ///< garments on screen (separating planes in the solve, a
-                                      ///< continuous pass after it); measured 0-2.2x a garment's
-                                      ///< own solve on a walking mannequin (README, Self-collision)
+                                      ///< continuous pass after it; its cost counted in the budget);
+                                      ///< 1.2-3.8x a garment's own solve on a walking mannequin
+                                      ///< (cc_crowd --self-collision). Off by default: a garment that
+                                      ///< comes near already tangled runs the fail-safe for up to a
+                                      ///< second (README, Self-collision)
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
     Status validate() const;

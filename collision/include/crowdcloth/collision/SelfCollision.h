@@ -38,7 +38,8 @@ struct SelfCollisionSettings {
 struct SelfCollisionStats {
     uint32_t proximityPairs = 0;       ///< vertex-triangle + edge-edge pairs closer than thickness at x0
     uint32_t repulsions = 0;           ///< of those, pairs that got a repulsion or inelastic impulse
-    uint32_t ccdTests = 0;             ///< continuous tests run, all passes
+    uint32_t ccdTests = 0;             ///< candidate pairs of the continuous tests, all passes (a pass
+                                       ///< after the first re-tests only those its predecessor moved)
     uint32_t broadPhases = 0;          ///< broad-phase searches for them; the other passes filtered
                                        ///< the pairs separatingPlanes() kept for the step
     uint32_t firstPassCollisions = 0;  ///< collisions found by the first continuous pass
@@ -215,6 +216,11 @@ private:
     std::vector<Collision> mCollisions, mFound;         ///< resolve's and findCollisions' scratch
     std::vector<uint8_t> mStatus, mStopped;
     std::vector<uint32_t> mBoxCounts;
+    // findCollisions' passes within one resolve(): what the last one saw.
+    int mPassCount = 0;
+    std::vector<Vec3> mLastEnd;               ///< x1 of the last pass
+    std::vector<uint8_t> mInLastCollision;    ///< per vertex: in one of the last pass's collisions
+    std::vector<uint8_t> mChanged;            ///< per vertex: to re-test this pass
 };
 
 } // namespace cc::collision
