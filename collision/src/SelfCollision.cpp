@@ -204,32 +204,42 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
     // Every vertex and edge is owned by one triangle holding it, whose box holds its box: a pair
     // that overlaps is found through its owners' pair, once (adjacent primitives share a triangle
     // or a vertex and are skipped). Vertices of no triangle ask the tree themselves.
-    auto vertexTriangle = [&](uint32_t v, uint32_t t) {
-        if (!hasVertex(mTriangles[t], v) && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
-    };
-    auto edgeEdge = [&](uint32_t e, uint32_t f) {
-        if (!shareVertex(mEdges[e], mEdges[f]) && edgesOverlap(e, f))
-            outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
-    };
     mTrianglePairs.clear();
     mBvh.overlappingPairs(mTrianglePairs);
+    pairsOfTrianglePairs(vertexBoxes, false, outVertexTriangle, outEdgeEdge);
+    std::vector<uint32_t>& hits = mHits;
+    for (uint32_t v : mLoneVertices) {
+        hits.clear();
+        mBvh.query(vertexBoxes[v], hits);
+        for (uint32_t t : hits) outVertexTriangle.push_back({v, t});  // a lone vertex is in no triangle
+    }
+    // Sorted (each pair is found once): results do not depend on the tree's order.
+    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
+    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+}
+
+void SelfCollision::pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool escapedOnly,
+                                         std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                         std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    auto escapedEdge = [&](uint32_t e) { return mEscaped[mEdges[e][0]] || mEscaped[mEdges[e][1]]; };
+    auto vertexTriangle = [&](uint32_t v, uint32_t t) {
+        if ((!escapedOnly || mEscaped[v] || mEscapedTriangle[t]) && !hasVertex(mTriangles[t], v) &&
+            mBoxes[t].overlaps(vertexBoxes[v]))
+            outVertexTriangle.push_back({v, t});
+    };
     for (const auto& [t, u] : mTrianglePairs) {
         const Owned& a = mOwned[t];
         const Owned& b = mOwned[u];
         for (uint32_t k = 0; k < a.vertexCount; ++k) vertexTriangle(a.vertices[k], u);
         for (uint32_t k = 0; k < b.vertexCount; ++k) vertexTriangle(b.vertices[k], t);
         for (uint32_t k = 0; k < a.edgeCount; ++k)
-            for (uint32_t j = 0; j < b.edgeCount; ++j) edgeEdge(a.edges[k], b.edges[j]);
+            for (uint32_t j = 0; j < b.edgeCount; ++j) {
+                const uint32_t e = a.edges[k], f = b.edges[j];
+                if ((!escapedOnly || escapedEdge(e) || escapedEdge(f)) && !shareVertex(mEdges[e], mEdges[f]) &&
+                    edgesOverlap(e, f))
+                    outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
+            }
     }
-    std::vector<uint32_t>& hits = mHits;
-    for (uint32_t v : mLoneVertices) {
-        hits.clear();
-        mBvh.query(vertexBoxes[v], hits);
-        for (uint32_t t : hits) vertexTriangle(v, t);
-    }
-    // Sorted (each pair is found once): results do not depend on the tree's order.
-    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
-    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
 }
 
 void SelfCollision::sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount,
@@ -288,24 +298,9 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
     fitTree();
     mEscapedTriangle.resize(mTriangles.size());
     for (uint32_t t = 0; t < mTriangles.size(); ++t) mEscapedTriangle[t] = escapedTriangle(t);
-    auto vertexTriangle = [&](uint32_t v, uint32_t t) {
-        if ((mEscaped[v] || mEscapedTriangle[t]) && !hasVertex(mTriangles[t], v) && mBoxes[t].overlaps(vertexBoxes[v]))
-            outVertexTriangle.push_back({v, t});
-    };
     mTrianglePairs.clear();
     mBvh.overlappingPairs(mEscapedTriangle, mTrianglePairs);
-    for (const auto& [t, u] : mTrianglePairs) {
-        const Owned& a = mOwned[t];
-        const Owned& b = mOwned[u];
-        for (uint32_t k = 0; k < a.vertexCount; ++k) vertexTriangle(a.vertices[k], u);
-        for (uint32_t k = 0; k < b.vertexCount; ++k) vertexTriangle(b.vertices[k], t);
-        for (uint32_t k = 0; k < a.edgeCount; ++k)
-            for (uint32_t j = 0; j < b.edgeCount; ++j) {
-                const uint32_t e = a.edges[k], f = b.edges[j];
-                if ((escapedEdge(e) || escapedEdge(f)) && !shareVertex(mEdges[e], mEdges[f]) && edgesOverlap(e, f))
-                    outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
-            }
-    }
+    pairsOfTrianglePairs(vertexBoxes, true, outVertexTriangle, outEdgeEdge);
     std::vector<uint32_t>& hits = mHits;
     for (uint32_t v : mLoneVertices) {  // vertices of no triangle have no owner
         if (mEscaped[v]) {
@@ -313,7 +308,8 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
             mBvh.query(vertexBoxes[v], hits);
             for (uint32_t t : hits) outVertexTriangle.push_back({v, t});
         } else {
-            for (uint32_t t = 0; t < mTriangles.size(); ++t) vertexTriangle(v, t);
+            for (uint32_t t = 0; t < mTriangles.size(); ++t)
+                if (mEscapedTriangle[t] && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
         }
     }
     sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));

@@ -162,6 +162,11 @@ private:
     /// The broad phase's box test of two edges (their boxes of the last hullBoxes(), one grown by its
     /// margin), the same whichever is named first.
     bool edgesOverlap(uint32_t e, uint32_t f) const;
+    /// The vertex-triangle and edge-edge pairs of mTrianglePairs (each through its owners) whose
+    /// boxes overlap; with `escapedOnly`, only those with an escaped vertex (pairsFromCache).
+    void pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool escapedOnly,
+                              std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                              std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// Sorts pairs (first index below firstCount, second below secondCount), without allocating
     /// once warm.
     void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount, uint32_t secondCount);
