@@ -109,13 +109,11 @@ Result<SelfCollision> SelfCollision::create(Span<const std::array<uint32_t, 3>> 
         }
     }
     std::sort(halfEdges.begin(), halfEdges.end());
-    self.mTriangleEdges.assign(triangles.size(), {0, 0, 0});
     self.mOwned.assign(triangles.size(), {});
     for (const auto& h : halfEdges) {
         if (self.mEdges.empty() || self.mEdges.back()[0] != h[0] || self.mEdges.back()[1] != h[1]) {
             self.mEdges.push_back({h[0], h[1]});
         }
-        self.mTriangleEdges[h[2] / 3][h[2] % 3] = static_cast<uint32_t>(self.mEdges.size() - 1);
         if (self.mEdgeTriangle.size() < self.mEdges.size()) {
             self.mEdgeTriangle.push_back(h[2] / 3);
             Owned& owner = self.mOwned[h[2] / 3];
@@ -275,17 +273,18 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
     }
     if (mEscapedVertices.size() > mVertexCount / kMaxEscapedShare) return false;
     hullBoxes(vertexBoxes, margin);
-    auto escapedTriangle = [&](uint32_t t) {
+    mEscapedTriangle.resize(mTriangles.size());
+    for (uint32_t t = 0; t < mTriangles.size(); ++t) {
         const auto& tri = mTriangles[t];
-        return mEscaped[tri[0]] || mEscaped[tri[1]] || mEscaped[tri[2]];
-    };
+        mEscapedTriangle[t] = mEscaped[tri[0]] || mEscaped[tri[1]] || mEscaped[tri[2]];
+    }
     auto escapedEdge = [&](uint32_t e) { return mEscaped[mEdges[e][0]] || mEscaped[mEdges[e][1]]; };
     outVertexTriangle.clear();
     outEdgeEdge.clear();
     // Pairs whose vertices all stayed in their cached boxes: every one that overlaps now overlapped
     // there (a larger or equal margin), so it is in the cache; the same test as candidatesOfBoxes.
     for (const auto& pair : cache.vf)
-        if (!mEscaped[pair[0]] && !escapedTriangle(pair[1]) && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
+        if (!mEscaped[pair[0]] && !mEscapedTriangle[pair[1]] && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
             outVertexTriangle.push_back(pair);
     for (const auto& pair : cache.ee)
         if (!escapedEdge(pair[0]) && !escapedEdge(pair[1]) && edgesOverlap(pair[0], pair[1]))
@@ -296,8 +295,6 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
     // through the triangles holding one: every vertex and edge is met through its owner, which
     // holds it, so such a pair comes from a triangle pair with an escaped triangle in it.
     fitTree();
-    mEscapedTriangle.resize(mTriangles.size());
-    for (uint32_t t = 0; t < mTriangles.size(); ++t) mEscapedTriangle[t] = escapedTriangle(t);
     mTrianglePairs.clear();
     mBvh.overlappingPairs(mEscapedTriangle, mTrianglePairs);
     pairsOfTrianglePairs(vertexBoxes, true, outVertexTriangle, outEdgeEdge);
@@ -546,14 +543,13 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
     // moved, or one in a collision then: a test depends on its four vertices' x0 and x1 alone, so
     // any other pair tested clear last time is clear now (and was a candidate then, as its boxes
     // are the same). The fail-safe's dozens of passes cost little more than the first.
-    const bool again = mPassCount > 0;
     mChanged.resize(mVertexCount);
     for (uint32_t v = 0; v < mVertexCount; ++v) {
-        mChanged[v] = !again || mInLastCollision[v] || !(x1[v] == mLastEnd[v]);
+        mChanged[v] = !mRetestMovedOnly || mInLastCollision[v] || !(x1[v] == mLastEnd[v]);
         mInLastCollision[v] = 0;
     }
     mLastEnd.assign(x1.begin(), x1.end());
-    ++mPassCount;
+    mRetestMovedOnly = true;
     std::vector<Collision>& found = mFound;
     std::vector<uint8_t>& status = mStatus;  // 0 none, 1 contact, 2 contact with capped search
     std::vector<uint32_t>& boxes = mBoxCounts;
@@ -765,7 +761,7 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     }
     SelfCollisionStats& stats = outStats;
     const Span<const Vec3> x1View(x1.data(), x1.size());
-    mPassCount = 0;  // findCollisions' first pass tests every pair
+    mRetestMovedOnly = false;  // findCollisions' first pass tests every pair
     mInLastCollision.assign(mVertexCount, 0);
     if (mSettings.proximityPass) applyProximity(x0, x1, stats);
 

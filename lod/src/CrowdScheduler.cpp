@@ -74,6 +74,17 @@ Status validateInputs(std::vector<uint64_t>& ids, const SchedulerSettings& setti
     return Status::ok();
 }
 
+bool atLeast(double value, double threshold, bool wasAbove, double hysteresis) {
+    return value >= (wasAbove ? threshold * (1.0 - hysteresis) : threshold);
+}
+
+/// The two halves of wantsSelfCollision's rule: seen at least selfCollisionRadiusPx large (with
+/// hysteresis against last frame's answer), at one of the finest two levels.
+bool largeForSelfCollision(bool visible, double screenRadiusPx, bool wasOn, const SchedulerSettings& s) {
+    return visible && atLeast(screenRadiusPx, s.selfCollisionRadiusPx, wasOn, s.hysteresis);
+}
+bool selfCollisionLevel(int level, int levelCount) { return level >= levelCount - 2; }
+
 /// The decision variables of one garment while the budget is balanced.
 struct Choice {
     int level = 0;
@@ -98,7 +109,7 @@ struct GarmentView {
         double best = 0.0;
         for (double cost : l.costMs)
             if (cost > 0.0 && (best == 0.0 || cost < best)) best = cost;
-        const bool self = largeForSelfCollision && level >= levelCount() - 2;  // wantsSelfCollision
+        const bool self = largeForSelfCollision && selfCollisionLevel(level, levelCount());
         return best + l.collisionCostMs[static_cast<int>(collision)] + (self ? l.selfCollisionCostMs : 0.0);
     }
     double cost(const Choice& c) const { return asleep ? 0.0 : stepCost(c.level) / c.interval; }
@@ -141,10 +152,6 @@ Choice toleranceChoice(const GarmentView& g, const SchedulerSettings& s) {
     if (prev.updateInterval >= 1 && prev.updateInterval < c.interval)
         c.interval = std::max(prev.updateInterval, longestIntervalWithin(g, strict, s.maxUpdateInterval));
     return c;
-}
-
-bool atLeast(double value, double threshold, bool wasAbove, double hysteresis) {
-    return value >= (wasAbove ? threshold * (1.0 - hysteresis) : threshold);
 }
 
 /// Asleep: none; unseen or small on screen: the capsules; large: the body mesh, with continuous
@@ -252,8 +259,8 @@ struct MoveQueue {
 
 bool wantsSelfCollision(const GarmentSchedule& schedule, int level, int levelCount, bool wasOn,
                         const SchedulerSettings& settings) {
-    return schedule.visible && level >= levelCount - 2 &&
-           atLeast(schedule.screenRadiusPx, settings.selfCollisionRadiusPx, wasOn, settings.hysteresis);
+    return largeForSelfCollision(schedule.visible, schedule.screenRadiusPx, wasOn, settings) &&
+           selfCollisionLevel(level, levelCount);
 }
 
 struct SchedulerWorkspace::Buffers {
@@ -464,8 +471,8 @@ Status scheduleGarments(const SchedulerSettings& settings, Span<const SchedulerC
         g.asleep = !g.visible && r.atRest;
         g.lagMetresPerFrame2 = 0.5 * settings.typicalAcceleration * r.speed * settings.frameDt * settings.frameDt;
         g.collision = collisionFor(g, settings);
-        g.largeForSelfCollision = g.visible && atLeast(r.radius * g.pixelsPerMetre, settings.selfCollisionRadiusPx,
-                                                       r.previous.selfCollision, settings.hysteresis);
+        g.largeForSelfCollision =
+            largeForSelfCollision(g.visible, r.radius * g.pixelsPerMetre, r.previous.selfCollision, settings);
         g.choice = toleranceChoice(g, settings);
         if (settings.refineWithSlack) keepSpentSlack(g);
     }

@@ -186,7 +186,6 @@ private:
     uint32_t mVertexCount = 0;
     std::vector<std::array<uint32_t, 3>> mTriangles;
     std::vector<std::array<uint32_t, 2>> mEdges;          ///< sorted, a < b
-    std::vector<std::array<uint32_t, 3>> mTriangleEdges;  ///< edge indices of each triangle
     std::vector<uint32_t> mEdgeTriangle;                 ///< the first triangle (by index) of each edge
     /// The vertices and edges a triangle owns (it is the first triangle holding them): the broad
     /// phase meets each vertex and edge through its owner only.
@@ -222,7 +221,7 @@ private:
     std::vector<uint8_t> mStatus, mStopped;
     std::vector<uint32_t> mBoxCounts;
     // findCollisions' passes within one resolve(): what the last one saw.
-    int mPassCount = 0;
+    bool mRetestMovedOnly = false;            ///< not the resolve's first pass
     std::vector<Vec3> mLastEnd;               ///< x1 of the last pass
     std::vector<uint8_t> mInLastCollision;    ///< per vertex: in one of the last pass's collisions
     std::vector<uint8_t> mChanged;            ///< per vertex: to re-test this pass
