@@ -413,6 +413,11 @@ cc_status cc_world_get_garment_stats(const cc_world* w, cc_garment_id g, cc_garm
     });
 }
 
+cc_status cc_world_load_error_table(cc_world* w, cc_asset_id asset, const char* directory) {
+    CC_CHECK_WORLD(w);
+    return guarded(w, [&] { return report(w, w->world->loadErrorTable(asset, directory)); });
+}
+
 cc_status cc_world_set_shadow_check(cc_world* w, uint32_t garments, double window_seconds, uint32_t substeps,
                                     uint32_t iterations) {
     CC_CHECK_WORLD(w);

@@ -55,6 +55,9 @@ struct CookedAsset {
 /// Validates `desc`, builds the pattern, the hierarchy and every level. Fails naming the field.
 Result<CookedAsset> cookClothAsset(const ClothAssetDesc& desc);
 
+/// Digest of every field of a design (WorldSnapshot.cpp): snapshots and error tables check by it.
+uint64_t designFingerprint(const ClothAssetDesc& design);
+
 /// A base grid point of a pattern panel: (i, j) with i along u, j along v.
 struct PatternPoint {
     uint32_t panel = 0, i = 0, j = 0;

@@ -33,6 +33,16 @@ Result<AssetId> World::addClothAsset(const ClothAssetDesc& desc) {
     return impl(this).addClothAsset(desc);
 }
 
+Status World::setErrorTable(AssetId design, const ErrorTable& table) {
+    if (Status s = outsideStep(this, "setErrorTable"); !s) return s;
+    return impl(this).setErrorTable(design, table);
+}
+
+Status World::loadErrorTable(AssetId design, const char* directory) {
+    if (Status s = outsideStep(this, "loadErrorTable"); !s) return s;
+    return impl(this).loadErrorTable(design, directory);
+}
+
 Result<BodyId> World::addMannequinBody(const MannequinDesc& desc) {
     if (Status s = outsideStep(this, "addMannequinBody"); !s) return s;
     auto body = detail::makeMannequinBody(desc);

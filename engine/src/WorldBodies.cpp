@@ -8,6 +8,7 @@ namespace {
 
 Status staleBody() { return Status::invalidArgument("body is null, stale or from another world"); }
 
+
 } // namespace
 
 Result<AssetId> WorldImpl::fittedAsset(DesignRecord& design, const std::shared_ptr<const BodyAsset>& body) {
@@ -17,10 +18,36 @@ Result<AssetId> WorldImpl::fittedAsset(DesignRecord& design, const std::shared_p
     if (!cooked.isOk()) return cooked.status();
     auto record = std::make_unique<AssetRecord>();
     record->asset = std::make_shared<const CookedAsset>(std::move(cooked).value());
+    record->errors = design.errors;
     const auto h = mAssets.add(std::move(record));
     const AssetId id{h.index1, h.generation};
     design.fitted.push_back({body, id});
     return id;
+}
+
+Status WorldImpl::setErrorTable(AssetId id, const ErrorTable& table) {
+    DesignRecord* design = mDesigns.get(id);
+    if (!design) return Status::invalidArgument("setErrorTable: asset is null, stale or from another world");
+    if (Status s = table.validate(); !s) return Status::invalidArgument("setErrorTable: " + s.message());
+    if (table.levelCount() != design->desc.levelCount)
+        return Status::invalidArgument("setErrorTable: the table has " + std::to_string(table.levelCount()) +
+                                       " levels, the design " + std::to_string(design->desc.levelCount));
+    if (table.key != errorTableKey(design->desc, mDesc, table.cook))
+        return Status::invalidArgument("setErrorTable: the table was measured for another design or World effort "
+                                       "(substeps, solverIterations, strainLimit, gravity): cook it for this one");
+    design->errors = std::make_shared<const ErrorTable>(table.nonIncreasingInLevel());
+    for (const auto& fitted : design->fitted)
+        if (AssetRecord* asset = mAssets.get(fitted.second)) asset->errors = design->errors;
+    return Status::ok();
+}
+
+Status WorldImpl::loadErrorTable(AssetId id, const char* directory) {
+    const DesignRecord* design = mDesigns.get(id);
+    if (!design) return Status::invalidArgument("loadErrorTable: asset is null, stale or from another world");
+    if (!directory || !*directory) return Status::invalidArgument("loadErrorTable: directory is null or empty");
+    auto table = loadOrCookErrorTable(directory, design->desc, mDesc);
+    if (!table.isOk()) return Status::error(table.status().code(), "loadErrorTable: " + table.status().message());
+    return setErrorTable(id, table.value());
 }
 
 Status WorldImpl::setBodyLandmarks(BodyId id, const BodyLandmarkDesc& landmarks) {

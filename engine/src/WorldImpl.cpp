@@ -285,7 +285,14 @@ Status WorldImpl::scheduleFrame(double dt) {
             const CookedLevel& level = record.asset->levels[l];
             const std::size_t n = level.active.mesh.vertexCount();
             lod::LevelProfile lp;
-            lp.errorMetres = level.errorMetres;
+            if (record.errors) {  // measured: error per radius at the table's two speeds
+                for (uint32_t m = 0; m < ErrorTable::kMotions; ++m) {
+                    lp.errorPerRadius[m] = record.errors->error(uint32_t(l), m);
+                    lp.errorSpeeds[m] = record.errors->speeds[m];
+                }
+            } else {
+                lp.errorMetres = level.errorMetres;
+            }
             const WorldDesc::Effort effort = mDesc.effortAt(uint32_t(l), uint32_t(record.asset->levels.size()));
             lp.substeps = int(effort.substeps);
             lp.iterations = int(effort.iterations);

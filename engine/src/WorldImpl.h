@@ -24,6 +24,8 @@ public:
     static Result<WorldImpl*> create(const WorldDesc& desc);
 
     Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
+    Status setErrorTable(AssetId design, const ErrorTable& table);
+    Status loadErrorTable(AssetId design, const char* directory);
     Result<BodyId> addBody(BodyAsset body);
     // Bodies and fitted garments (WorldBodies.cpp).
     Status setBodyLandmarks(BodyId id, const BodyLandmarkDesc& landmarks);
@@ -65,6 +67,7 @@ private:
     WorldImpl(const WorldDesc& desc, std::unique_ptr<collision::CollisionDevice> device);
     struct AssetRecord {
         std::shared_ptr<const CookedAsset> asset;
+        std::shared_ptr<const ErrorTable> errors;  ///< its design's measured errors; null = the formula
     };
     /// Spare mesh colliders a body keeps (each holds ~1.5 MB for a 6k-triangle body): enough for
     /// the characters that move in and out of the camera's near field at once.
@@ -80,6 +83,7 @@ private:
     struct DesignRecord {
         ClothAssetDesc desc;
         std::vector<std::pair<std::shared_ptr<const BodyAsset>, AssetId>> fitted;
+        std::shared_ptr<const ErrorTable> errors;  ///< setErrorTable's, handed to every fitted asset
     };
     /// The body's collision topology and first spare colliders, made with its first character.
     Status prepareBodyTopology(BodyRecord& body);

@@ -65,11 +65,15 @@ bool isSolverField(const char* name) {
 
 uint64_t fingerprint(SnapshotWriter& w) { return hashBytes(w.bytes().data(), w.bytes().size()); }
 
+} // namespace
+
 uint64_t designFingerprint(const ClothAssetDesc& x) {
     SnapshotWriter w;
     CC_ASSET_FIELDS(CC_SNAPSHOT_PUT)
     return fingerprint(w);
 }
+
+namespace {
 
 /// The body's mesh, skeleton size, clips and the landmarks garments are fitted to.
 uint64_t bodyFingerprint(const BodyAsset& body) {

@@ -33,6 +33,12 @@ Status validateInputs(std::vector<uint64_t>& ids, const SchedulerSettings& setti
             auto at = [&] { return where("profile", p) + " " + where("level", l); };  // on error only
             if (!std::isfinite(level.errorMetres) || level.errorMetres < 0.0)
                 return Status::invalidArgument(at() + ": errorMetres must be finite and >= 0");
+            for (double e : level.errorPerRadius)
+                if (!std::isfinite(e) || e < 0.0)
+                    return Status::invalidArgument(at() + ": errorPerRadius must be finite and >= 0");
+            if (!std::isfinite(level.errorSpeeds[0]) || !std::isfinite(level.errorSpeeds[1]) ||
+                !(level.errorSpeeds[1] > level.errorSpeeds[0]))
+                return Status::invalidArgument(at() + ": errorSpeeds must be finite and ascending");
             for (double cost : level.collisionCostMs)
                 if (!std::isfinite(cost) || cost < 0.0)
                     return Status::invalidArgument(at() + ": collisionCostMs must be finite and >= 0");
@@ -113,7 +119,12 @@ struct GarmentView {
         return best + l.collisionCostMs[static_cast<int>(collision)] + (self ? l.selfCollisionCostMs : 0.0);
     }
     double cost(const Choice& c) const { return asleep ? 0.0 : stepCost(c.level) / c.interval; }
-    double levelErrorPx(int level) const { return profile->levels[level].errorMetres * pixelsPerMetre; }
+    double levelErrorPx(int level) const {
+        const LevelProfile& l = profile->levels[level];
+        const double t = std::clamp((request->speed - l.errorSpeeds[0]) / (l.errorSpeeds[1] - l.errorSpeeds[0]), 0.0, 1.0);
+        const double perRadius = (1.0 - t) * l.errorPerRadius[0] + t * l.errorPerRadius[1];
+        return (l.errorMetres + perRadius * request->radius) * pixelsPerMetre;
+    }
     double lagErrorPx(int interval) const {
         const double frames = interval - 1;
         return lagMetresPerFrame2 * frames * frames * pixelsPerMetre;

@@ -72,6 +72,9 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
     app.add_option("--preset", o.preset, "Speed against accuracy: the World's solver effort and pixel tolerance "
                                          "(WorldDesc::applyPreset; default: the default WorldDesc)")
         ->transform(CLI::CheckedTransformer(kPresets, CLI::ignore_case));
+    app.add_option("--error-tables", o.errorTables, "Directory caching each garment design's measured error table "
+                                                    "(cooked there on first use, about half a minute per design): the "
+                                                    "scheduler predicts from measurements instead of its formula");
     app.add_option("--churn", o.churn, "Share of the characters that leave per second, each replaced by an identical "
                                        "one (new handles; a soak's joins and leaves)")
         ->check(CLI::Range(0.0, 60.0));

@@ -74,6 +74,14 @@ std::vector<CameraKey> Plaza::defaultCameraPath(const PlazaSettings& settings) {
     return path;
 }
 
+/// Adds a garment design, with its measured error table when the settings name a cache.
+cc::Result<cc::AssetId> addDesign(cc::World& world, const cc::ClothAssetDesc& desc, const PlazaSettings& settings) {
+    auto id = world.addClothAsset(desc);
+    if (!id.isOk() || settings.errorTables.empty()) return id;
+    if (cc::Status s = world.loadErrorTable(id.value(), settings.errorTables.c_str()); !s) return s;
+    return id;
+}
+
 cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings) {
     Plaza plaza;
     std::mt19937 rng(settings.seed);
@@ -135,7 +143,7 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
             const double baseLength[4] = {0.5, 0.3, 0.45, 0.3};
             d.relativeLength = baseLength[k] * (v == 0 ? 1.0 : 0.8);
             d.velocityDamping = settings.velocityDamping;
-            auto id = world.addClothAsset(d);
+            auto id = addDesign(world, d, settings);
             if (!id.isOk()) return id.status();
             variants[k].push_back(id.value());
         }
@@ -150,7 +158,7 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         d.width = 0.7;
         d.length = 1.0;
         d.velocityDamping = settings.velocityDamping;
-        auto id = world.addClothAsset(d);
+        auto id = addDesign(world, d, settings);
         if (!id.isOk()) return id.status();
         heroCape = id.value();
     }

@@ -43,6 +43,10 @@ struct PlazaSettings {
     std::vector<cc::BodyId> bodies;
     std::string clip;
     double walkSpeed = 1.2;      ///< [m/s] imported characters' speed round their circles
+    /// Where each design's measured error table is cached (World::loadErrorTable: cooked on first
+    /// use, about half a minute per design); the scheduler then predicts from measurements instead
+    /// of its formula. Empty = the formula.
+    std::string errorTables;
 };
 
 /// A plaza of mannequins (or imported characters) walking and running circles (turning all the

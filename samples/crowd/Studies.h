@@ -9,24 +9,19 @@
 #include <Eigen/Geometry>
 
 #include "crowdcloth/World.h"
-#include "crowdcloth/render/Camera.h"
+#include "crowdcloth/core/Camera.h"
+#include "crowdcloth/core/Statistics.h"
 
 namespace crowd {
 
-inline double percentile(const std::vector<double>& values, double p) {
-    if (values.empty()) return 0.0;
-    std::vector<double> v(values);
-    const std::size_t k = std::min(v.size() - 1, std::size_t(std::ceil(p * double(v.size())) - 1));
-    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-    return v[k];
-}
+using cc::percentile;
 
 struct WorldDeleter {
     void operator()(cc::World* w) const { cc::World::destroy(w); }
 };
 using WorldPtr = std::unique_ptr<cc::World, WorldDeleter>;
 
-using cc::render::lookAt;  // 60-degree camera, Y up
+using cc::lookAt;  // 60-degree camera, Y up
 
 /// Every garment at its finest level, updated every frame, with no budget: what LOD saves
 /// (`cc_crowd --full-resolution`, and the scaling study's mode=full).

@@ -1,7 +1,7 @@
 // cc_crowd --tradeoff: speed against accuracy, measured. For each scene (a garment on a walking
 // or running mannequin) a converged reference is run at a level above the finest shipped (64
 // substeps, 40 iterations); every configuration is then restarted from the reference's states in
-// 0.25 s windows and measured at each window's end (ErrorWindows.h). Sweeps: the shipped levels at
+// 0.25 s windows and measured at each window's end (engine/src/RestartedWindows.h). Sweeps: the shipped levels at
 // the World's default solver, and at the finest shipped level the substeps, the iterations, a grid
 // of the cheapest efforts and the strain limit; the reference's level under the shipped solver;
 // and the three presets, each at the level its pixel tolerance gets at the study camera (BAR
@@ -16,12 +16,21 @@
 #include <string>
 #include <vector>
 
-#include "ErrorWindows.h"
 #include "ExternalTools.h"
+#include "RestartedWindows.h"
 #include "Studies.h"
 
 namespace crowd {
 namespace {
+
+using cc::detail::ReferenceRun;
+using cc::detail::WindowConfig;
+using cc::detail::WindowResult;
+using cc::detail::WindowScene;
+using cc::detail::recordReference;
+using cc::detail::runWindows;
+using cc::detail::scheduledLevel;
+using cc::detail::studyDesc;
 
 // What ships: the default asset's levels and the default World's solver effort.
 const uint32_t kShippedLevels = cc::ClothAssetDesc{}.levelCount;
@@ -55,14 +64,12 @@ struct Config {
 /// WorldDesc::effortAt, checked against it (a sweep that asks for more than the desc can give at a
 /// coarse level stops the study rather than mislabel a row).
 cc::WorldDesc descFor(const Config& c, uint32_t levelCount) {
-    const int below = int(levelCount) - 1 - c.level;
-    const cc::WorldDesc desc = studyDesc(c.substeps << ((below + 1) / 2), c.iterations + uint32_t(below), c.strainLimit);
-    const cc::WorldDesc::Effort effort = desc.effortAt(uint32_t(c.level), levelCount);
-    if (!desc.validate() || effort.substeps != c.substeps || effort.iterations != c.iterations) {
-        std::fprintf(stderr, "tradeoff: no World desc gives level %d %u x %u\n", c.level, c.substeps, c.iterations);
+    auto desc = cc::detail::descGiving(studyDesc(1, 1, c.strainLimit), c.level, levelCount, {c.substeps, c.iterations});
+    if (!desc.isOk()) {
+        std::fprintf(stderr, "tradeoff: %s\n", desc.status().message().c_str());
         std::exit(1);
     }
-    return desc;
+    return desc.value();
 }
 
 /// The effort a shipped asset gets at `level` under `desc`.
@@ -173,7 +180,7 @@ int runTradeoff(const std::string& outDir, double seconds) {
     scenes[1].clip = "run";
     scenes[1].speed = 3.5;
     scenes[2].name = "skirt/walk";
-    scenes[2].kind = cc::GarmentKind::Skirt;
+    scenes[2].asset.kind = cc::GarmentKind::Skirt;
     for (WindowScene& s : scenes) s.seconds = std::max(1.0, seconds);
     const int top = int(scenes[0].levelCount) - 1;
 

@@ -21,7 +21,7 @@
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/import/CharacterIO.h"
-#include "crowdcloth/render/Camera.h"
+#include "crowdcloth/core/Camera.h"
 #include "crowdcloth/render/OffscreenRenderer.h"
 
 namespace {
@@ -83,7 +83,7 @@ bool parse(int argc, char** argv, Options& o) {
 
 /// A 40-degree close-up camera.
 void viewProjection(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, double aspect, double out[16]) {
-    cc::render::lookAt(eye, target, aspect, out, 40.0, 0.05, 200.0);
+    cc::lookAt(eye, target, aspect, out, 40.0, 0.05, 200.0);
 }
 
 struct WorldDeleter {

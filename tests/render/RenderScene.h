@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "crowdcloth/render/Camera.h"
+#include "crowdcloth/core/Camera.h"
 #include "crowdcloth/render/OffscreenRenderer.h"
 
 namespace cc::render::test {

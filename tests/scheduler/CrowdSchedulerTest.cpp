@@ -324,6 +324,78 @@ TEST(CrowdScheduler, CountsTheCollisionDetailsCostInTheBudget) {
 
 }
 
+/// fiveLevels with measured errors (an error table's) instead of the formula's: error per radius
+/// at 1 m/s and 3 m/s, the faster motion twice as wrong.
+GarmentProfile measuredFiveLevels() {
+    GarmentProfile profile = fiveLevels();
+    for (int l = 0; l < 5; ++l) {
+        LevelProfile& level = profile.levels[l];
+        level.errorMetres = 0.0;
+        level.errorPerRadius[0] = 0.002 * (5 - l);
+        level.errorPerRadius[1] = 2.0 * level.errorPerRadius[0];
+        level.errorSpeeds[0] = 1.0;
+        level.errorSpeeds[1] = 3.0;
+    }
+    return profile;
+}
+
+TEST(CrowdScheduler, PredictsMeasuredErrorsInProportionToTheGarmentsSizeAndSpeed) {
+    const GarmentProfile profile = measuredFiveLevels();
+    SchedulerSettings settings = unlimited();
+    settings.typicalAcceleration = 0.0;  // no update lag: the level's error alone
+    settings.maxUpdateInterval = 1;
+    settings.pixelTolerance = 1e-9;      // every garment at the finest level
+    // Below the slower speed, at it, halfway, at and beyond the faster one (held).
+    const double speeds[] = {0.0, 1.0, 2.0, 3.0, 9.0};
+    const double perRadius[] = {0.002, 0.002, 0.003, 0.004, 0.004};
+    for (int k = 0; k < 5; ++k)
+        for (double radius : {0.5, 1.0}) {
+            GarmentRequest r = garmentAt(1, 10.0, speeds[k]);
+            r.radius = radius;
+            const double pixelsPerMetre = projectSphere(cameraAtOrigin(), r.center, radius).pixelsPerMetre;
+            const auto out = schedule(settings, {r}, profile);
+            ASSERT_EQ(out[0].level, 4);
+            EXPECT_NEAR(out[0].predictedErrorPx, perRadius[k] * radius * pixelsPerMetre, 1e-9 * pixelsPerMetre)
+                << "speed " << speeds[k] << " radius " << radius;
+        }
+}
+
+TEST(CrowdScheduler, KeepsGarmentsWithinTheToleranceByMeasuredErrorsAndDegradesByThem) {
+    std::vector<GarmentRequest> requests;
+    for (int i = 0; i < 40; ++i) requests.push_back(garmentAt(i, 2.0 + 3.0 * i, i % 3 == 0 ? 3.0 : 1.0));
+    const GarmentProfile profile = measuredFiveLevels();
+    const auto free = schedule(unlimited(), requests, profile);
+    for (std::size_t i = 0; i < free.size(); ++i) {
+        // Within the tolerance wherever some level is: the finest one's error is 0.002 (0.004 fast) x radius.
+        const GarmentRequest& r = requests[i];
+        const double radiusPx = r.radius * projectSphere(cameraAtOrigin(), r.center, r.radius).pixelsPerMetre;
+        const double finestPx = radiusPx * (r.speed > 2.0 ? 0.004 : 0.002);
+        if (finestPx <= 1.0) {
+            EXPECT_LE(free[i].predictedErrorPx, 1.0) << "garment " << i;
+        }
+        // The coarsest such level: one coarser would leave the tolerance (or the garment is at level 0).
+        if (free[i].level > 0 && finestPx <= 1.0) {
+            const double coarserPx = finestPx * (5 - (free[i].level - 1));
+            EXPECT_GT(coarserPx, 1.0 * (1.0 - 1e-12)) << "garment " << i;
+        }
+    }
+    // Over budget: the garment whose measured error grows least per millisecond saved goes first,
+    // so of two twins at the finest level the slow one gives its level up, the fast one (measured
+    // twice as wrong) keeps it.
+    SchedulerSettings settings = unlimited();
+    settings.pixelTolerance = 1e-9;
+    settings.maxUpdateInterval = 1;
+    const std::vector<GarmentRequest> twins = {garmentAt(1, 4.0, 1.0), garmentAt(2, 4.0, 3.0)};
+    const auto both = schedule(settings, twins, profile);
+    ASSERT_EQ(both[0].level, 4);
+    ASSERT_EQ(both[1].level, 4);
+    settings.budgetMs = 0.9 * (both[0].predictedCostMs + both[1].predictedCostMs);
+    const auto tight = schedule(settings, twins, profile);
+    EXPECT_LE(tight[0].predictedCostMs + tight[1].predictedCostMs, settings.budgetMs * (1 + 1e-12));
+    EXPECT_LT(tight[0].level, 4) << "the slow garment gives up its level";
+    EXPECT_EQ(tight[1].level, 4) << "the fast one keeps it";
+}
+
 TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     const SchedulerCamera camera = cameraAtOrigin();
     const GarmentProfile profile = fiveLevels();
@@ -352,6 +424,14 @@ TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     GarmentProfile negative = fiveLevels();
     negative.levels[1].collisionCostMs[int(CollisionDetail::Mesh)] = -1.0;
     EXPECT_NE(run({garmentAt(1, 1.0)}, {}, negative).message().find("profile 0 level 1: collisionCostMs"),
+              std::string::npos);
+    GarmentProfile measured = measuredFiveLevels();
+    measured.levels[3].errorPerRadius[1] = std::nan("");
+    EXPECT_NE(run({garmentAt(1, 1.0)}, {}, measured).message().find("profile 0 level 3: errorPerRadius"),
+              std::string::npos);
+    measured = measuredFiveLevels();
+    measured.levels[0].errorSpeeds[1] = measured.levels[0].errorSpeeds[0];
+    EXPECT_NE(run({garmentAt(1, 1.0)}, {}, measured).message().find("profile 0 level 0: errorSpeeds"),
               std::string::npos);
 }
 

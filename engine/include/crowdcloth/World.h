@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "crowdcloth/ErrorTable.h"
 #include "crowdcloth/Export.h"
 #include "crowdcloth/Ids.h"
 #include "crowdcloth/Status.h"
@@ -332,6 +333,16 @@ public:
     static void destroy(World* world);
 
     Result<AssetId> addClothAsset(const ClothAssetDesc& desc);
+    /// Hands the scheduler a design's measured errors (cookErrorTable, loadOrCookErrorTable) in
+    /// place of its h^2 / (8 foldRadius) formula, for every body the design is fitted to: a level's
+    /// predicted error is then the table's error per radius (interpolated in the garment's speed)
+    /// times the fitted garment's radius. The table must be measured for this design and this
+    /// World's effort (its key); else an error names the mismatch. Cooked data: not in snapshots.
+    Status setErrorTable(AssetId design, const ErrorTable& table);
+    /// setErrorTable with the design's table for this World's effort from `directory`, cooked and
+    /// written there first when it is not cached (loadOrCookErrorTable: about half a minute per
+    /// design at the defaults; the cache makes it once per design and effort).
+    Status loadErrorTable(AssetId design, const char* directory);
     Result<BodyId> addMannequinBody(const MannequinDesc& desc);
     /// An imported (or generated) character as a body the World skins itself, like the mannequin:
     /// its skeleton is posed by its clips (chosen per character by name or index) and its skin

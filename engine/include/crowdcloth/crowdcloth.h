@@ -192,6 +192,9 @@ CC_API void cc_world_destroy(cc_world* world);
 CC_API const char* cc_world_last_error(const cc_world* world);
 
 CC_API cc_status cc_world_add_cloth_asset(cc_world* world, const cc_cloth_asset_desc* desc, cc_asset_id* out_asset);
+/* Measured errors for the scheduler in place of its formula (World::loadErrorTable): the design's
+   table for this world's effort from `directory`, cooked and cached there first when absent. */
+CC_API cc_status cc_world_load_error_table(cc_world* world, cc_asset_id asset, const char* directory);
 CC_API cc_status cc_world_add_mannequin_body(cc_world* world, const cc_mannequin_desc* desc, cc_body_id* out_body);
 CC_API cc_status cc_world_add_skinned_body(cc_world* world, const float* bind_positions, uint32_t vertex_count,
                                     uint32_t stride_bytes, const uint32_t* triangles, uint32_t triangle_count,

@@ -36,6 +36,11 @@ constexpr int kCollisionDetailCount = 4;
 struct LevelProfile {
     double errorMetres = 0.0;  ///< [m] deviation of this level's result from the finest level's
                                ///< (e.g. p95 vertex distance of the drape); >= 0, finest = 0
+    /// [-] measured error as a fraction of the garment's radius (an error table's), at the body
+    /// speeds errorSpeeds: interpolated in the garment's speed (held beyond them) and added to
+    /// errorMetres; >= 0, 0 = not measured
+    double errorPerRadius[2] = {0.0, 0.0};
+    double errorSpeeds[2] = {0.0, 1.0};  ///< [m/s] finite, ascending
     double costMs[kSolverChoiceCount] = {0.0, 0.0}; ///< [ms] one update per solver; <= 0 means the
                                                     ///< solver is not offered here
     double collisionCostMs[kCollisionDetailCount] = {0.0, 0.0, 0.0, 0.0}; ///< [ms] added to one

@@ -9,14 +9,15 @@
 #include <vector>
 
 #include "crowdcloth/World.h"
+#include "crowdcloth/lod/CrowdScheduler.h"
 #include "crowdcloth/lod/ScreenError.h"
 
-namespace crowd {
+namespace cc::detail {
 
 /// One character wearing one garment, driven along +Z at its clip's pace.
 struct WindowScene {
     std::string name;                       ///< for the tables: "cape/walk"
-    cc::GarmentKind kind = cc::GarmentKind::Cape;
+    ClothAssetDesc asset;                   ///< the design worn (its levelCount is replaced by levelCount)
     std::string clip = "walk";
     double speed = 1.35;                    ///< [m/s] root speed once started (reached over the first second)
     double seconds = 3.0;                   ///< run length
@@ -31,14 +32,14 @@ struct ReferenceRun {
     std::vector<int> startFrames;                   ///< frame a window starts after
     std::vector<std::vector<uint8_t>> snapshots;    ///< World state there
     std::vector<std::vector<float>> endMeshes;      ///< render positions at the window's end
-    std::vector<cc::lod::SchedulerCamera> cameras;  ///< the study camera at the window's end
+    std::vector<lod::SchedulerCamera> cameras;  ///< the study camera at the window's end
     double meanMs = 0.0;                            ///< [ms] per update
     bool ok = true;
 };
 
 /// What one configuration does over every window of a scene.
 struct WindowResult {
-    std::vector<cc::lod::MeshDeviation> windows;  ///< at each window's end
+    std::vector<lod::MeshDeviation> windows;  ///< at each window's end
     std::vector<double> windowMs;                 ///< [ms] per garment update, mean over each window
     uint32_t vertices = 0, substeps = 0, iterationsPerSubstep = 0;
     double maxStrain = 0.0;
@@ -50,19 +51,23 @@ struct WindowResult {
 };
 
 /// The settings a study World is made with: one thread, fixed costs, the given solver.
-cc::WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLimit);
+WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLimit);
+
+/// `base` with substeps and iterations that give `level` of an asset with `levelCount` levels the
+/// effort `effort` (the inverse of WorldDesc::effortAt); fails when no valid desc gives it.
+Result<WorldDesc> descGiving(const WorldDesc& base, int level, uint32_t levelCount, WorldDesc::Effort effort);
 
 /// Runs the scene at `level` (-1 = the asset's top level) under `desc`, saving the state at every
 /// window's start.
-ReferenceRun recordReference(const WindowScene& scene, const cc::WorldDesc& desc, int level = -1);
+ReferenceRun recordReference(const WindowScene& scene, const WorldDesc& desc, int level = -1);
 
 /// Restarts every window of `reference` at `level` under `desc` and measures it against the
 /// reference's end of window.
-WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const cc::WorldDesc& desc, int level);
+WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const WorldDesc& desc, int level);
 
 /// One configuration of a comparison: the World's settings and the level forced.
 struct WindowConfig {
-    cc::WorldDesc desc;
+    WorldDesc desc;
     int level = 0;
 };
 
@@ -74,6 +79,6 @@ std::vector<WindowResult> runWindows(const WindowScene& scene, const ReferenceRu
 /// The level the scheduler gives the scene's garment, cut with `levelCount` levels, under `desc`
 /// (its pixel tolerance, the study camera): the level of most updates after the drape-in; -1 if
 /// the run fails.
-int scheduledLevel(const WindowScene& scene, const cc::WorldDesc& desc, uint32_t levelCount);
+int scheduledLevel(const WindowScene& scene, const WorldDesc& desc, uint32_t levelCount);
 
-} // namespace crowd
+} // namespace cc::detail

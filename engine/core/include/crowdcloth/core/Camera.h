@@ -1,12 +1,13 @@
 #pragma once
-// The samples' cameras: a perspective camera at `eye` looking at `target`, Y up.
+// A perspective camera at `eye` looking at `target`, Y up (the samples' views, the error studies'
+// cameras).
 
 #include <cmath>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace cc::render {
+namespace cc {
 
 /// Column-major OpenGL view-projection of a camera with vertical field of view fovDegrees.
 inline void lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, double aspect, double out[16],
@@ -32,4 +33,4 @@ inline void lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, do
     for (int k = 0; k < 16; ++k) out[k] = vp(k % 4, k / 4);
 }
 
-} // namespace cc::render
+} // namespace cc

@@ -1,14 +1,21 @@
-#include "ErrorWindows.h"
+#include "RestartedWindows.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
-#include "Studies.h"
+#include "crowdcloth/core/Camera.h"
+#include "crowdcloth/core/Statistics.h"
 
-namespace crowd {
+namespace cc::detail {
 namespace {
 
 constexpr double kDt = 1.0 / 60.0;
+
+struct WorldDeleter {
+    void operator()(World* w) const { World::destroy(w); }
+};
+using WorldPtr = std::unique_ptr<World, WorldDeleter>;
 
 /// [m] root position along +Z at time t: the speed eases in over the first second (smoothstep),
 /// so the start is a walker setting off, not a jolt.
@@ -19,34 +26,33 @@ double rootZ(const WindowScene& scene, double t) {
 
 struct StudyWorld {
     WorldPtr world;
-    cc::CharacterId walker{};
-    cc::GarmentId garment{};
-    cc::Status status;
+    CharacterId walker{};
+    GarmentId garment{};
+    Status status;
 };
 
 /// A World with the scene's walker wearing its garment, cut with `levelCount` levels (0 = the
 /// scene's); `level` forced (-1 = the top one), or left to the scheduler with kScheduled.
 constexpr int kScheduled = -2;
-StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int level, uint32_t levelCount = 0) {
+StudyWorld makeWorld(const WindowScene& scene, const WorldDesc& desc, int level, uint32_t levelCount = 0) {
     if (levelCount == 0) levelCount = scene.levelCount;
     StudyWorld s;
-    auto created = cc::World::create(desc);
+    auto created = World::create(desc);
     if (!created.isOk()) {
         s.status = created.status();
         return s;
     }
     s.world.reset(created.value());
-    cc::ClothAssetDesc asset;
-    asset.kind = scene.kind;
+    ClothAssetDesc asset = scene.asset;
     asset.levelCount = levelCount;
-    asset.renderLevel = std::max(levelCount - 1, cc::ClothAssetDesc{}.renderLevel);
+    asset.renderLevel = std::max(levelCount - 1, ClothAssetDesc{}.renderLevel);
     auto assetId = s.world->addClothAsset(asset);
     auto body = s.world->addMannequinBody({});
     if (!assetId.isOk() || !body.isOk()) {
         s.status = !assetId.isOk() ? assetId.status() : body.status();
         return s;
     }
-    cc::CharacterDesc cd;
+    CharacterDesc cd;
     cd.body = body.value();
     cd.clip = scene.clip.c_str();
     auto walker = s.world->addCharacter(cd);
@@ -55,7 +61,7 @@ StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int le
         return s;
     }
     s.walker = walker.value();
-    cc::GarmentDesc gd;
+    GarmentDesc gd;
     gd.forceLevel = level == kScheduled ? -1 : level < 0 ? int(levelCount) - 1 : level;
     auto garment = s.world->addGarment(assetId.value(), s.walker, gd);
     s.status = garment.status();
@@ -64,17 +70,17 @@ StudyWorld makeWorld(const WindowScene& scene, const cc::WorldDesc& desc, int le
 }
 
 /// The study camera at frame f: behind the walker and above, looking at its back.
-cc::CameraDesc studyCamera(const WindowScene& scene, int frame) {
+CameraDesc studyCamera(const WindowScene& scene, int frame) {
     const double z = rootZ(scene, frame * kDt);
     const Eigen::Vector3d target(0.0, 1.1, z);
     const Eigen::Vector3d eye = target + scene.cameraDistance * Eigen::Vector3d(-1.2, 0.4, -2.2).normalized();
-    cc::CameraDesc camera;
+    CameraDesc camera;
     lookAt(eye, target, camera.viewportWidth / camera.viewportHeight, camera.viewProjection);
     return camera;
 }
 
-cc::lod::SchedulerCamera toScheduler(const cc::CameraDesc& c) {
-    cc::lod::SchedulerCamera s;
+lod::SchedulerCamera toScheduler(const CameraDesc& c) {
+    lod::SchedulerCamera s;
     for (int k = 0; k < 16; ++k) s.viewProjection(k % 4, k / 4) = c.viewProjection[k];
     s.viewportWidth = c.viewportWidth;
     s.viewportHeight = c.viewportHeight;
@@ -82,29 +88,29 @@ cc::lod::SchedulerCamera toScheduler(const cc::CameraDesc& c) {
 }
 
 /// Steps frame `frame` (root, camera, step); adds the garment's update time to `ms`.
-bool advance(const WindowScene& scene, StudyWorld& s, int frame, double& ms, cc::GarmentStats* stats) {
+bool advance(const WindowScene& scene, StudyWorld& s, int frame, double& ms, GarmentStats* stats) {
     const double position[3] = {0.0, 0.0, rootZ(scene, frame * kDt)};
-    const cc::CameraDesc camera = studyCamera(scene, frame);
+    const CameraDesc camera = studyCamera(scene, frame);
     if (!s.world->setCharacterRoot(s.walker, position, 0.0) || !s.world->setCameras(&camera, 1) ||
         !s.world->step(kDt))
         return false;
-    const cc::GarmentStats g = s.world->garmentStats(s.garment).value();
+    const GarmentStats g = s.world->garmentStats(s.garment).value();
     ms += g.measuredMs;
     if (stats) *stats = g;
     return !g.failed;
 }
 
 std::vector<float> renderPositions(const StudyWorld& s) {
-    const cc::RenderMeshView m = s.world->renderMesh(s.garment).value();
+    const RenderMeshView m = s.world->renderMesh(s.garment).value();
     return std::vector<float>(m.positions, m.positions + 3 * std::size_t(m.vertexCount));
 }
 
 /// Percentile `p` over the windows of one figure of their deviations.
 template <typename Figure>
-double overWindows(const std::vector<cc::lod::MeshDeviation>& windows, double p, Figure figure) {
+double overWindows(const std::vector<lod::MeshDeviation>& windows, double p, Figure figure) {
     std::vector<double> v;
     v.reserve(windows.size());
-    for (const cc::lod::MeshDeviation& w : windows) v.push_back(figure(w));
+    for (const lod::MeshDeviation& w : windows) v.push_back(figure(w));
     return percentile(std::move(v), p);
 }
 
@@ -112,17 +118,17 @@ double overWindows(const std::vector<cc::lod::MeshDeviation>& windows, double p,
 
 double WindowResult::medianMs() const { return percentile(windowMs, 0.5); }
 double WindowResult::medianRmsMm() const {
-    return overWindows(windows, 0.5, [](const cc::lod::MeshDeviation& w) { return 1e3 * w.rmsMetres; });
+    return overWindows(windows, 0.5, [](const lod::MeshDeviation& w) { return 1e3 * w.rmsMetres; });
 }
 double WindowResult::p95MaxMm() const {
-    return overWindows(windows, 0.95, [](const cc::lod::MeshDeviation& w) { return 1e3 * w.maxMetres; });
+    return overWindows(windows, 0.95, [](const lod::MeshDeviation& w) { return 1e3 * w.maxMetres; });
 }
 double WindowResult::p95MaxPx() const {
-    return overWindows(windows, 0.95, [](const cc::lod::MeshDeviation& w) { return w.maxPixels; });
+    return overWindows(windows, 0.95, [](const lod::MeshDeviation& w) { return w.maxPixels; });
 }
 
-cc::WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLimit) {
-    cc::WorldDesc desc;
+WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLimit) {
+    WorldDesc desc;
     desc.maxThreads = 1;
     desc.fixedCostModel = true;
     desc.substeps = substeps;
@@ -134,7 +140,20 @@ cc::WorldDesc studyDesc(uint32_t substeps, uint32_t iterations, double strainLim
     return desc;
 }
 
-ReferenceRun recordReference(const WindowScene& scene, const cc::WorldDesc& desc, int level) {
+Result<WorldDesc> descGiving(const WorldDesc& base, int level, uint32_t levelCount, WorldDesc::Effort effort) {
+    const int below = int(levelCount) - 1 - level;
+    WorldDesc desc = base;
+    desc.substeps = effort.substeps << ((below + 1) / 2);
+    desc.solverIterations = effort.iterations + uint32_t(below);
+    const WorldDesc::Effort given = desc.effortAt(uint32_t(level), levelCount);
+    if (!desc.validate() || given.substeps != effort.substeps || given.iterations != effort.iterations)
+        return Status::invalidArgument("no World desc gives level " + std::to_string(level) + " of " +
+                                       std::to_string(levelCount) + " " + std::to_string(effort.substeps) + " x " +
+                                       std::to_string(effort.iterations));
+    return desc;
+}
+
+ReferenceRun recordReference(const WindowScene& scene, const WorldDesc& desc, int level) {
     ReferenceRun run;
     StudyWorld s = makeWorld(scene, desc, level);
     if (!s.status) {
@@ -178,9 +197,9 @@ std::vector<WindowResult> runWindows(const WindowScene& scene, const ReferenceRu
             StudyWorld& s = worlds[c];
             if (!result.ok) continue;
             const std::vector<uint8_t>& saved = reference.snapshots[k];
-            result.ok = s.world->restoreState(saved.data(), saved.size(), cc::RestoreMode::OtherSolver).isOk() &&
+            result.ok = s.world->restoreState(saved.data(), saved.size(), RestoreMode::OtherSolver).isOk() &&
                         s.world->setGarmentLevel(s.garment, configs[c].level).isOk();
-            cc::GarmentStats stats;
+            GarmentStats stats;
             double ms = 0.0;
             for (int f = reference.startFrames[k] + 1; f <= reference.startFrames[k] + length && result.ok; ++f) {
                 result.ok = advance(scene, s, f, ms, &stats);
@@ -191,23 +210,23 @@ std::vector<WindowResult> runWindows(const WindowScene& scene, const ReferenceRu
             result.substeps = stats.substeps;
             result.iterationsPerSubstep = stats.iterations / std::max(1u, stats.substeps);
             const std::vector<float> mesh = renderPositions(s);
-            result.windows.push_back(cc::lod::meshDeviation(mesh.data(), reference.endMeshes[k].data(), mesh.size() / 3,
+            result.windows.push_back(lod::meshDeviation(mesh.data(), reference.endMeshes[k].data(), mesh.size() / 3,
                                                             &reference.cameras[k]));
         }
     return results;
 }
 
-WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const cc::WorldDesc& desc, int level) {
+WindowResult runWindows(const WindowScene& scene, const ReferenceRun& reference, const WorldDesc& desc, int level) {
     return runWindows(scene, reference, {{desc, level}}).front();
 }
 
-int scheduledLevel(const WindowScene& scene, const cc::WorldDesc& desc, uint32_t levelCount) {
+int scheduledLevel(const WindowScene& scene, const WorldDesc& desc, uint32_t levelCount) {
     StudyWorld s = makeWorld(scene, desc, kScheduled, levelCount);
     if (!s.status) return -1;
     std::vector<int> updatesAt(levelCount, 0);
     const int frames = int(std::lround(scene.seconds / kDt)), first = int(std::lround(scene.firstWindow / kDt));
     double ms = 0.0;
-    cc::GarmentStats stats;
+    GarmentStats stats;
     for (int f = 1; f <= frames; ++f) {
         if (!advance(scene, s, f, ms, &stats)) return -1;
         if (f > first && stats.updated && stats.level >= 0 && stats.level < int(levelCount)) ++updatesAt[stats.level];
@@ -215,4 +234,4 @@ int scheduledLevel(const WindowScene& scene, const cc::WorldDesc& desc, uint32_t
     return int(std::max_element(updatesAt.begin(), updatesAt.end()) - updatesAt.begin());
 }
 
-} // namespace crowd
+} // namespace cc::detail

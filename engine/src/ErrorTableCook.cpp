@@ -1,0 +1,91 @@
+// Cooking an error table (crowdcloth/ErrorTable.h): the design on the built-in mannequin, walking
+// and running, measured level by level against a converged reference one level above the finest
+// in windows restarted from the reference's state (RestartedWindows.h, as cc_crowd --tradeoff).
+#include <cmath>
+#include <string>
+
+#include "RestartedWindows.h"
+#include "crowdcloth/ErrorTable.h"
+#include "crowdcloth/World.h"
+#include "crowdcloth/core/Statistics.h"
+
+namespace cc {
+namespace {
+
+/// [m] bounding radius about the centroid of xyz float positions: the garment's size the errors
+/// are divided by (CookedAsset::radius, taken at the window's end).
+double boundingRadius(const std::vector<float>& xyz) {
+    const std::size_t n = xyz.size() / 3;
+    double c[3] = {0.0, 0.0, 0.0};
+    for (std::size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) c[k] += xyz[3 * i + k];
+    for (double& x : c) x /= double(n);
+    double r2 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) d2 += (xyz[3 * i + k] - c[k]) * (xyz[3 * i + k] - c[k]);
+        r2 = std::max(r2, d2);
+    }
+    return std::sqrt(r2);
+}
+
+} // namespace
+
+Result<ErrorTable> cookErrorTable(const ClothAssetDesc& design, const WorldDesc& world, const ErrorCookDesc& cook) {
+    if (Status s = design.validate(); !s) return Status::invalidArgument("cookErrorTable: " + s.message());
+    if (Status s = world.validate(); !s) return Status::invalidArgument("cookErrorTable: " + s.message());
+    if (Status s = cook.validate(); !s) return Status::invalidArgument("cookErrorTable: " + s.message());
+    const uint32_t levels = design.levelCount;
+    if (levels + 1 > 10)
+        return Status::invalidArgument("cookErrorTable: the reference runs a level above the finest: levelCount must be < 10");
+
+    ErrorTable table;
+    table.key = errorTableKey(design, world, cook);
+    table.cook = cook;
+    table.errorPerRadius.assign(std::size_t(levels) * ErrorTable::kMotions, 0.0);
+    table.medianErrorPerRadius = table.errorPerRadius;
+    const char* clips[ErrorTable::kMotions] = {"walk", "run"};
+    for (uint32_t m = 0; m < ErrorTable::kMotions; ++m) {
+        detail::WindowScene scene;
+        scene.name = clips[m];
+        scene.asset = design;
+        scene.clip = clips[m];
+        scene.speed = table.speeds[m];
+        scene.seconds = cook.seconds;
+        scene.window = cook.windowSeconds;
+        scene.levelCount = levels + 1;
+        WorldDesc base = detail::studyDesc(1, 1, world.strainLimit);
+        for (int k = 0; k < 3; ++k) base.gravity[k] = world.gravity[k];
+        WorldDesc referenceDesc = base;
+        referenceDesc.substeps = cook.referenceSubsteps;
+        referenceDesc.solverIterations = cook.referenceIterations;
+        const detail::ReferenceRun reference = detail::recordReference(scene, referenceDesc);
+        if (!reference.ok || reference.startFrames.empty())
+            return Status::error(StatusCode::NumericalFailure,
+                                 std::string("cookErrorTable: the reference run failed (") + clips[m] + ")");
+        // Each level under the effort the World gives it among the design's own levels.
+        std::vector<detail::WindowConfig> configs;
+        for (uint32_t l = 0; l < levels; ++l) {
+            auto desc = detail::descGiving(base, int(l), levels + 1, world.effortAt(l, levels));
+            if (!desc.isOk()) return Status::invalidArgument("cookErrorTable: " + desc.status().message());
+            configs.push_back({desc.value(), int(l)});
+        }
+        const std::vector<detail::WindowResult> results = detail::runWindows(scene, reference, configs);
+        table.windows = uint32_t(reference.startFrames.size());
+        for (uint32_t l = 0; l < levels; ++l) {
+            const detail::WindowResult& r = results[l];
+            if (!r.ok || r.windows.size() != reference.endMeshes.size())
+                return Status::error(StatusCode::NumericalFailure, "cookErrorTable: level " + std::to_string(l) +
+                                                                       " failed in a window (" + clips[m] + ")");
+            std::vector<double> relative;
+            for (std::size_t k = 0; k < r.windows.size(); ++k)
+                relative.push_back(r.windows[k].rmsMetres / std::max(1e-6, boundingRadius(reference.endMeshes[k])));
+            table.errorPerRadius[l * ErrorTable::kMotions + m] = percentile(relative, 0.95);
+            table.medianErrorPerRadius[l * ErrorTable::kMotions + m] = percentile(relative, 0.5);
+        }
+    }
+    if (Status s = table.validate(); !s) return s;
+    return table;
+}
+
+} // namespace cc
