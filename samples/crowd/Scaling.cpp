@@ -67,7 +67,7 @@ ShadowSummary summarise(const std::vector<cc::ShadowCheckResult>& results, doubl
 }
 
 RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, double stopAboveMs,
-                   const cc::ShadowCheckDesc& shadow = {}) {
+                   const std::string& errorTables, const cc::ShadowCheckDesc& shadow = {}) {
     RunResult result;
     WorldPtr world(cc::World::create(desc).value());
     if (cc::Status s = world->setShadowCheck(shadow); !s) {
@@ -77,6 +77,7 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
     }
     PlazaSettings ps;
     ps.characters = characters;
+    ps.errorTables = errorTables;
     auto plaza = Plaza::create(*world, ps);
     if (!plaza.isOk()) {
         std::fprintf(stderr, "plaza: %s\n", plaza.status().message().c_str());
@@ -127,9 +128,10 @@ RunResult runPlaza(int characters, cc::WorldDesc desc, int frames, int warmup, d
 
 } // namespace
 
-int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shadowCheck) {
-    std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads\n", budgetMs,
-                threadCount > 0 ? std::to_string(threadCount).c_str() : "all");
+int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shadowCheck, const std::string& errorTables) {
+    std::printf("# crowd scaling: plaza, 60 Hz, cloth budget %.1f ms per frame, %s threads; the scheduler predicts "
+                "errors from %s\n", budgetMs, threadCount > 0 ? std::to_string(threadCount).c_str() : "all",
+                errorTables.empty() ? "its formula" : ("the error tables in " + errorTables).c_str());
     std::printf("%-10s %-6s %10s %10s %8s %8s %8s  %s\n", "characters", "mode", "median ms", "p99 ms", "updated",
                 "asleep", "err px", "garments per level L0..L4 (mean)");
     const int counts[] = {10, 30, 100, 300, 1000};
@@ -145,7 +147,7 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
             desc.maxThreads = uint32_t(threadCount);
             desc.frameBudgetMs = budgetMs;
             if (full) useFullResolution(desc);
-            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9);
+            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9, errorTables);
             if (!r.ok) return 1;
             // The shadow check in a second run of the same crowd: its reference solves between
             // frames evict the crowd's data from the caches, and with learned costs the schedule
@@ -153,7 +155,7 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
             // updates per frame, p99 +2-9 ms). Timings come from the run without it.
             RunResult checked;
             if (!full && shadowCheck.garments > 0) {
-                checked = runPlaza(n, desc, 240, 60, 1e9, shadowCheck);
+                checked = runPlaza(n, desc, 240, 60, 1e9, errorTables, shadowCheck);
                 if (!checked.ok) return 1;
             }
             const double median = percentile(r.frameMs, 0.5), p99 = percentile(r.frameMs, 0.99);
@@ -181,7 +183,7 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
                             "reference_within_1px_rms=%.3f shadow_windows=%zu",
                             shadow.withinMeasured, shadow.referenceWithin, shadow.withinMeasuredRms,
                             shadow.referenceWithinRms, shadow.windows);
-            std::printf(" mode=%s\n", full ? "full" : "lod");
+            std::printf(" mode=%s errors=%s\n", full ? "full" : "lod", errorTables.empty() ? "formula" : "measured");
             std::fflush(stdout);
             if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
             if (full && p99 > 16.7) fullStillFits = false;
@@ -196,7 +198,7 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
         desc.frameBudgetMs = 1e9; // the same work on both: the speed-up, not the budget, is measured
         desc.fixedCostModel = true;
         desc.budgetThreads = 2;
-        const RunResult r = runPlaza(100, desc, 120, 30, 1e9);
+        const RunResult r = runPlaza(100, desc, 120, 30, 1e9, errorTables);
         if (!r.ok) return 1;
         ms[t - 1] = percentile(r.frameMs, 0.5);
     }

@@ -34,8 +34,9 @@ inline void useFullResolution(cc::WorldDesc& desc) {
 /// Crowd scaling: 10 -> 1000 characters with LOD and at full resolution, and 1 -> 2 threads.
 /// With shadowCheck.garments > 0 the LOD runs also run the World's shadow check and print the
 /// measured share of windows within the tolerance (BAR within_1px_measured) beside the predicted
-/// one and the reference's own check.
-int runScaling(double budgetMs, int threads, const cc::ShadowCheckDesc& shadowCheck);
+/// one and the reference's own check. With errorTables (a cache directory) every design gets
+/// its measured table (World::loadErrorTable) and the scheduler predicts from it.
+int runScaling(double budgetMs, int threads, const cc::ShadowCheckDesc& shadowCheck, const std::string& errorTables);
 /// Speed against accuracy: levels, substeps, iterations and strain limit against a converged
 /// reference in restarted windows (Tradeoff.cpp); writes tradeoff.csv and tradeoff.png into outDir.
 int runTradeoff(const std::string& outDir, double seconds);

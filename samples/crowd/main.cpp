@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
         cc::ShadowCheckDesc shadow;
         shadow.garments = uint32_t(o.shadow);
         shadow.windowSeconds = o.shadowWindow;
-        return crowd::runScaling(o.scene.budgetMs, o.threads, shadow);
+        return crowd::runScaling(o.scene.budgetMs, o.threads, shadow, o.errorTables);
     }
     if (o.tradeoff) return crowd::runTradeoff(o.out, o.scene.seconds);
     if (o.batch) return crowd::runBatchBench();
