@@ -135,10 +135,13 @@ Result<ErrorTable> ErrorTable::fromText(const std::string& text) {
     in.ignore(1);
     auto cook = numbersAfter(in, "cook", 4);
     if (!cook.isOk()) return cook.status();
-    t.cook.seconds = cook.value()[0];
-    t.cook.windowSeconds = cook.value()[1];
-    t.cook.referenceSubsteps = uint32_t(cook.value()[2]);
-    t.cook.referenceIterations = uint32_t(cook.value()[3]);
+    const std::vector<double>& c = cook.value();
+    if (!(c[2] >= 0.0 && c[2] <= 1e6 && c[3] >= 0.0 && c[3] <= 1e6))  // before the casts (validate names them)
+        return Status::invalidArgument("error table: the cook's substeps and iterations must be counts");
+    t.cook.seconds = c[0];
+    t.cook.windowSeconds = c[1];
+    t.cook.referenceSubsteps = uint32_t(c[2]);
+    t.cook.referenceIterations = uint32_t(c[3]);
     auto speeds = numbersAfter(in, "speeds", kMotions);
     if (!speeds.isOk()) return speeds.status();
     for (uint32_t m = 0; m < kMotions; ++m) t.speeds[m] = speeds.value()[m];

@@ -90,6 +90,9 @@ TEST(ErrorTable, BadTextIsRefusedNamingWhat) {
     std::string word = good;
     word.replace(word.find(tenth), tenth.size(), "lots");
     EXPECT_TRUE(contains(ErrorTable::fromText(word).status(), "not a number: lots"));
+    std::string hugeCount = good;
+    hugeCount.replace(hugeCount.find(" 64 40\n"), 7, " -1e300 40\n");
+    EXPECT_TRUE(contains(ErrorTable::fromText(hugeCount).status(), "must be counts"));
     ErrorTable negative = uniformTable(2, 0.1);
     negative.errorPerRadius[3] = -0.1;
     EXPECT_TRUE(contains(negative.validate(), "finite and >= 0"));
