@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -103,6 +104,36 @@ TEST(ErrorTable, BadTextIsRefusedNamingWhat) {
     ErrorTable ragged = uniformTable(2, 0.1);
     ragged.errorPerRadius.pop_back();
     EXPECT_TRUE(contains(ragged.validate(), "levels x 2"));
+}
+
+TEST(ErrorTable, DamagedTextReadsAsATableOrAnErrorNeverACrash) {
+    // A cache file is input: mutated copies of a valid text (bytes flipped, cut, spliced; under
+    // ASan + UBSan in CI) must give a valid table or an error, never a crash or undefined behaviour.
+    const std::string good = uniformTable(3, 0.1).toText();
+    std::mt19937 rng(12345);
+    int accepted = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        std::string text = good;
+        const int edits = 1 + int(rng() % 4);
+        for (int e = 0; e < edits; ++e) {
+            const std::size_t at = rng() % text.size();
+            switch (rng() % 4) {
+            case 0: text[at] = char(rng() % 256); break;
+            case 1: text.erase(at, 1 + rng() % 8); break;
+            case 2: text.insert(at, std::string(1 + rng() % 3, "0123456789abcdefxp.-+e \n"[rng() % 25])); break;
+            default: text = text.substr(0, at); break;
+            }
+            if (text.empty()) text = "x";
+        }
+        auto read = ErrorTable::fromText(text);
+        if (read.isOk()) {
+            ++accepted;
+            EXPECT_TRUE(read.value().validate().isOk());
+        } else {
+            EXPECT_FALSE(read.status().message().empty());
+        }
+    }
+    EXPECT_LT(accepted, 3000) << "some damage must be caught";
 }
 
 TEST(ErrorTable, FitNonIncreasingPoolsAdjacentViolators) {
