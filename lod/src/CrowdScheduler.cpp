@@ -153,12 +153,19 @@ Choice toleranceChoice(const GarmentView& g, const SchedulerSettings& s) {
     if (!g.visible) return {0, s.maxUpdateInterval};
     const double tol = s.pixelTolerance;
     const double strict = s.pixelTolerance * (1.0 - s.hysteresis);
+    // Where no level is within the tolerance, the least error any level offers is the target:
+    // the coarsest level that offers it, not the finest (measured errors level off: refining
+    // past that buys nothing on screen). With the formula the finest level errs 0, so this is
+    // the tolerance itself.
+    double best = g.levelErrorPx(0);
+    for (int l = 1; l < g.levelCount(); ++l) best = std::min(best, g.levelErrorPx(l));
+    const double reachable = best * (1.0 + 1e-9);  // levels pooled to one error differ by rounding
     Choice c;
     // Finer (higher level) at once when the tolerance needs it; coarser only once the coarser
     // setting is clearly inside it.
-    c.level = coarsestLevelWithin(g, tol);
+    c.level = coarsestLevelWithin(g, std::max(tol, reachable));
     if (prev.level > c.level && prev.level < g.levelCount())
-        c.level = std::min(prev.level, coarsestLevelWithin(g, strict));
+        c.level = std::min(prev.level, coarsestLevelWithin(g, std::max(strict, reachable)));
     c.interval = longestIntervalWithin(g, tol, s.maxUpdateInterval);
     if (prev.updateInterval >= 1 && prev.updateInterval < c.interval)
         c.interval = std::max(prev.updateInterval, longestIntervalWithin(g, strict, s.maxUpdateInterval));

@@ -396,6 +396,23 @@ TEST(CrowdScheduler, KeepsGarmentsWithinTheToleranceByMeasuredErrorsAndDegradesB
     EXPECT_EQ(tight[1].level, 4) << "the fast one keeps it";
 }
 
+TEST(CrowdScheduler, WhereNoLevelMeetsTheToleranceTakesTheCoarsestWithTheLeastError) {
+    // Measured errors that level off: levels 2-4 alike (a table's pooled block), all above 1 px.
+    GarmentProfile profile = measuredFiveLevels();
+    const double perRadius[5] = {0.04, 0.03, 0.02, 0.02, 0.02};
+    for (int l = 0; l < 5; ++l) profile.levels[l].errorPerRadius[0] = profile.levels[l].errorPerRadius[1] = perRadius[l];
+    const auto out = schedule(unlimited(), {garmentAt(1, 3.0)}, profile);
+    EXPECT_GT(out[0].predictedErrorPx, 1.0);
+    EXPECT_EQ(out[0].level, 2) << "levels 3 and 4 cost more for nothing measured";
+    // Coming from the finest level, it moves there too (no hysteresis holds a level that buys nothing).
+    GarmentRequest was = garmentAt(1, 3.0);
+    was.previous = out[0];
+    was.previous.level = 4;
+    EXPECT_EQ(schedule(unlimited(), {was}, profile)[0].level, 2);
+    // The formula's finest level errs nothing: a near garment still gets it.
+    EXPECT_EQ(schedule(unlimited(), {garmentAt(1, 1.0)})[0].level, 4);
+}
+
 TEST(CrowdScheduler, RejectsBadInputNamingIt) {
     const SchedulerCamera camera = cameraAtOrigin();
     const GarmentProfile profile = fiveLevels();
