@@ -147,7 +147,8 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
             desc.maxThreads = uint32_t(threadCount);
             desc.frameBudgetMs = budgetMs;
             if (full) useFullResolution(desc);
-            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9, errorTables);
+            // Full resolution means the finest level: the tables would coarsen where it buys nothing.
+            const RunResult r = runPlaza(n, desc, full ? 30 : 240, 60, full ? 2000.0 : 1e9, full ? "" : errorTables);
             if (!r.ok) return 1;
             // The shadow check in a second run of the same crowd: its reference solves between
             // frames evict the crowd's data from the caches, and with learned costs the schedule
@@ -183,7 +184,7 @@ int runScaling(double budgetMs, int threadCount, const cc::ShadowCheckDesc& shad
                             "reference_within_1px_rms=%.3f shadow_windows=%zu",
                             shadow.withinMeasured, shadow.referenceWithin, shadow.withinMeasuredRms,
                             shadow.referenceWithinRms, shadow.windows);
-            std::printf(" mode=%s errors=%s\n", full ? "full" : "lod", errorTables.empty() ? "formula" : "measured");
+            std::printf(" mode=%s errors=%s\n", full ? "full" : "lod", errorTables.empty() || full ? "formula" : "measured");
             std::fflush(stdout);
             if (p99 <= 16.7) (full ? fitFull : fitLod) = n;
             if (full && p99 > 16.7) fullStillFits = false;

@@ -100,7 +100,8 @@ int runCrowd(const RunOptions& o) {
     if (!created.isOk()) return fail(created.status().message());
     crowd::WorldPtr world(created.value());
     crowd::PlazaSettings settings = scene.plaza;
-    settings.errorTables = o.errorTables;
+    // Full resolution means the finest level: the tables would coarsen where it buys nothing.
+    settings.errorTables = o.fullResolution ? std::string() : o.errorTables;
     if (cc::Status s = addImportedBodies(*world, scene, settings); !s) return fail(s.message());
     auto plaza = crowd::Plaza::create(*world, settings);
     if (!plaza.isOk()) return fail("plaza: " + plaza.status().message());
