@@ -32,7 +32,7 @@ struct ReferenceRun {
     std::vector<int> startFrames;                   ///< frame a window starts after
     std::vector<std::vector<uint8_t>> snapshots;    ///< World state there
     std::vector<std::vector<float>> endMeshes;      ///< render positions at the window's end
-    std::vector<lod::SchedulerCamera> cameras;  ///< the study camera at the window's end
+    std::vector<lod::SchedulerCamera> cameras;      ///< the study camera at the window's end
     double meanMs = 0.0;                            ///< [ms] per update
     bool ok = true;
 };
@@ -40,7 +40,7 @@ struct ReferenceRun {
 /// What one configuration does over every window of a scene.
 struct WindowResult {
     std::vector<lod::MeshDeviation> windows;  ///< at each window's end
-    std::vector<double> windowMs;                 ///< [ms] per garment update, mean over each window
+    std::vector<double> windowMs;             ///< [ms] per garment update, mean over each window
     uint32_t vertices = 0, substeps = 0, iterationsPerSubstep = 0;
     double maxStrain = 0.0;
     bool ok = true;

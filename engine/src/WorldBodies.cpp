@@ -8,7 +8,6 @@ namespace {
 
 Status staleBody() { return Status::invalidArgument("body is null, stale or from another world"); }
 
-
 } // namespace
 
 Result<AssetId> WorldImpl::fittedAsset(DesignRecord& design, const std::shared_ptr<const BodyAsset>& body) {

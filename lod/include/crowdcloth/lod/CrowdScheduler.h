@@ -115,8 +115,9 @@ struct SchedulerSettings {
 /// A pure function of its inputs (no state, no clock, no threads):
 /// 1. unseen garments take the coarsest level at the slowest rate, or sleep when at rest;
 /// 2. seen ones take the coarsest level and slowest rate whose predicted screen error stays under
-///    the tolerance (where no level does, the coarsest level with the least error) (with hysteresis against last frame's choice, so a still camera at a threshold
-///    never makes a garment flicker); with slack spent (refineWithSlack), a seen garment keeps
+///    the tolerance, or where no level does the coarsest level with the least error (with
+///    hysteresis against last frame's choice, so a still camera at a threshold never makes a
+///    garment flicker); with slack spent (refineWithSlack), a seen garment keeps
 ///    last frame's finer choice as its start. Each garment's collision detail follows from its
 ///    size on screen and its body's speed, and its cost is counted in every choice;
 /// 3. over budget, degrade where the least importance-weighted error per millisecond is lost;
