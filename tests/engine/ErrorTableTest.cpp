@@ -121,7 +121,7 @@ TEST(ErrorTable, DamagedTextReadsAsATableOrAnErrorNeverACrash) {
             case 0: text[at] = char(rng() % 256); break;
             case 1: text.erase(at, 1 + rng() % 8); break;
             case 2: text.insert(at, std::string(1 + rng() % 3, "0123456789abcdefxp.-+e \n"[rng() % 25])); break;
-            default: text = text.substr(0, at); break;
+            default: text.resize(at); break;
             }
             if (text.empty()) text = "x";
         }
