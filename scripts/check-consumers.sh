@@ -52,7 +52,7 @@ check_exports() { # library file name, extended regex of the names it may export
     fi
     echo "check-consumers: $(basename "$library") exports $(wc -l <<< "$exported") names, all marked"
 }
-check_exports libcrowdcloth 'cc_[a-z_]+|cc::(World|WorldDesc|ClothAssetDesc)::.*|cc::getVersion\(\)|cc::detail::(toCStatus|reportToC|stampError)(\[abi:cxx11\])?\(.*'
+check_exports libcrowdcloth 'cc_[a-z_]+|cc::(World|WorldDesc|ClothAssetDesc|ErrorTable|ErrorCookDesc)::.*|cc::(errorTableKey|cookErrorTable|loadOrCookErrorTable)\(.*|cc::getVersion\(\)|cc::detail::(toCStatus|reportToC|stampError)(\[abi:cxx11\])?\(.*'
 check_exports libcrowdcloth_import 'cc_[a-z_]+|cc::(importCharacter|exportCharacter)(\[abi:cxx11\])?\(.*|cc::ImportSettings::.*'
 done_=$(date +%s)
 echo "check-consumers: install + find_package consumers $((packages - start)) s," \
