@@ -45,7 +45,10 @@ slow_under_asan+='|Extremes\.ImplicitStaysBoundedAtTheStiffestClothWithHugeSteps
 # The two slowest left (43 and 19 s here): every garment kind and cut placed on four bodies (the
 # placement code runs under ASan in every fitted-garment test) and the shadow check's crowd run
 # twice to compare hashes (its windows run under ASan in the other ShadowCheck tests).
-slow_under_asan+='|GarmentFit\.PlacedGarmentsStartWithinTheStrainLimit|ShadowCheck\.TheCrowdItMeasuresRunsBitForBitAsWithoutIt)$'
+slow_under_asan+='|GarmentFit\.PlacedGarmentsStartWithinTheStrainLimit|ShadowCheck\.TheCrowdItMeasuresRunsBitForBitAsWithoutIt'
+# And the error-table cache's two cooks (12 s here): a cook runs under ASan in
+# CookIsDeterministicAndMeasuresEveryLevel; the cache around it is file handling.
+slow_under_asan+='|ErrorTable\.LoadOrCookCachesByKeyAndReplacesWhatDoesNotRead)$'
 status=0
 # One test process per core, OpenMP workers sleeping when idle (see run-tests.sh).
 OMP_WAIT_POLICY=passive ctest --test-dir build-asan --output-on-failure --timeout 900 -j "$(nproc)" -L fast \
