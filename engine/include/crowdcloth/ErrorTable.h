@@ -24,9 +24,10 @@ struct CC_API ErrorCookDesc {
 };
 
 /// How a design's levels err, measured with the design: for each level and motion, the root mean
-/// square distance of the render mesh from a converged reference's (a level above the finest,
-/// 64 substeps x 40 iterations) at the end of short windows, each restarted from the reference's
-/// state along a run (TESTPLAN point 3), divided by the garment's bounding radius. Relative to the
+/// square distance of the render mesh from a reference's (a level above the finest, 64 substeps x
+/// 40 iterations: converged in time, not yet in space, README) at the end of short windows, each
+/// restarted from the reference's state along a run (TESTPLAN point 3), divided by the garment's
+/// bounding radius about its centroid at the window's end. Relative to the
 /// radius it carries to the design fitted to another body, and on screen it is that fraction of the
 /// garment's projected radius. Measured under one World effort (substeps, iterations, strain limit):
 /// another effort needs its own table (errorTableKey).
