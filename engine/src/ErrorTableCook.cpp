@@ -1,6 +1,7 @@
 // Cooking an error table (crowdcloth/ErrorTable.h): the design on the built-in mannequin, walking
-// and running, measured level by level against a converged reference one level above the finest
-// in windows restarted from the reference's state (RestartedWindows.h, as cc_crowd --tradeoff).
+// and running, measured level by level against a reference one level above the finest (converged
+// in time, not yet in space: README) in windows restarted from the reference's state
+// (RestartedWindows.h, as cc_crowd --tradeoff).
 #include <algorithm>
 #include <cmath>
 #include <string>

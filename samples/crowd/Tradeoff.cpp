@@ -35,7 +35,9 @@ using cc::detail::studyDesc;
 // What ships: the default asset's levels and the default World's solver effort.
 const uint32_t kShippedLevels = cc::ClothAssetDesc{}.levelCount;
 const cc::WorldDesc kShippedDesc{};
-constexpr uint32_t kReferenceSubsteps = 64, kReferenceIterations = 40;
+// The reference every error study measures against (the error tables' cook, the shadow check).
+const uint32_t kReferenceSubsteps = cc::ErrorCookDesc{}.referenceSubsteps;
+const uint32_t kReferenceIterations = cc::ErrorCookDesc{}.referenceIterations;
 
 constexpr cc::QualityPreset kPresets[] = {cc::QualityPreset::Fast, cc::QualityPreset::Balanced, cc::QualityPreset::Quality};
 
