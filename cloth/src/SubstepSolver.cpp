@@ -30,6 +30,9 @@ Status SubstepSettings::validate() const {
     if (!(compressionStiffness >= 0.0 && compressionStiffness <= 1.0))
         return Status::invalidArgument("SubstepSettings.compressionStiffness = " + std::to_string(compressionStiffness) +
                                        " is outside [0, 1]");
+    if (!(stiffnessDamping >= 0.0 && stiffnessDamping <= 10.0))
+        return Status::invalidArgument("SubstepSettings.stiffnessDamping = " + std::to_string(stiffnessDamping) +
+                                       " s is outside [0, 10]");
     if (Status s = friction.validate(); !s) return Status::invalidArgument("SubstepSettings." + s.message());
     return Status::ok();
 }
@@ -524,6 +527,45 @@ private:
         }
     }
 
+    // Rayleigh damping beta K v_next (Baraff & Witkin 1998), v_next = (y + d - x_start) / h,
+    // linearised at y with the springs' Hessian K there: the residual gains -(beta / h) K (y - x_start)
+    // and the system's K becomes (1 + beta / h) K (the stored frames are scaled, so every product
+    // after this sees it). An attached node's motion is its target's over the substep, so a spring
+    // to the body damps motion relative to the body; a translation is in K's null space.
+    void addStiffnessDamping(double* CC_RESTRICT r) {
+        const double rate = mSettings.stiffnessDamping / mFactor->substep();
+        const double* CC_RESTRICT start = mW.previous.data();
+        const double* CC_RESTRICT y = mW.predicted.data();  // attached nodes: their substep targets
+        double* CC_RESTRICT frame = mW.springFrames.data();
+        for (int k = 0; k < mGroupCount; ++k) {
+            const Group& g = mGroups[k];
+            for (const LevelSpring& sp : *g.springs) {
+                const std::size_t a = std::size_t(sp.a) * kRow, b = std::size_t(sp.b) * kRow;
+                for (int l = 0; l < W; l += S) {
+                    V n[3], relative[3], along{};
+                    for (int c = 0; c < 3; ++c) {
+                        const std::size_t o = std::size_t(c) * W + l;
+                        n[c] = load<V>(frame + c * W + l);
+                        relative[c] = (load<V>(y + a + o) - load<V>(start + a + o)) -
+                                      (load<V>(y + b + o) - load<V>(start + b + o));
+                        along += n[c] * relative[c];
+                    }
+                    // K u = frame3 (n . u) n + frame4 u, as in hessianProduct.
+                    const V alongStiffness = load<V>(frame + 3 * W + l), acrossStiffness = load<V>(frame + 4 * W + l);
+                    for (int c = 0; c < 3; ++c) {
+                        const std::size_t o = std::size_t(c) * W + l;
+                        const V force = rate * (alongStiffness * along * n[c] + acrossStiffness * relative[c]);
+                        store(r + a + o, load<V>(r + a + o) - force);
+                        if (g.bothFree) store(r + b + o, load<V>(r + b + o) + force);
+                    }
+                    store(frame + 3 * W + l, (1.0 + rate) * alongStiffness);
+                    store(frame + 4 * W + l, (1.0 + rate) * acrossStiffness);
+                }
+                frame += 5 * W;
+            }
+        }
+    }
+
     // The springs of the Newton system: stretch and shear, and bending when the factor has it
     // (otherwise it is explicit, in the prediction).
     struct Group {
@@ -578,6 +620,7 @@ private:
             springForces(*g.springs, x, r, frames, g.bothFree, g.compression);
             frames += g.springs->size() * 5 * W;
         }
+        if (mSettings.stiffnessDamping > 0.0) addStiffnessDamping(r);
         if (warm) {
             // Line search along the last substep's correction w: alpha = r.w / w.Aw minimises the
             // step's quadratic model along w, so the start is never worse than d = 0 in the energy

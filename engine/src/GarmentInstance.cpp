@@ -274,6 +274,7 @@ cloth::SubstepSettings GarmentInstance::solverSettings(int substeps, int iterati
     settings.strainLimit = strainLimit;
     settings.contactThickness = mAsset->desc.thickness;
     settings.compressionStiffness = mAsset->desc.compressionStiffness;
+    settings.stiffnessDamping = mAsset->desc.damping;
     settings.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
     return settings;
 }

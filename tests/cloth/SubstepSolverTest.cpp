@@ -10,6 +10,7 @@
 #include "crowdcloth/cloth/MassSpringModel.h"
 #include "crowdcloth/cloth/SubstepSimulation.h"
 #include "support/SheetScenes.h"
+#include "support/SpringChain.h"
 
 using namespace cc;
 using namespace cc::cloth;
@@ -45,27 +46,7 @@ bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
 
-// A vertical chain: vertex 0 attached at the origin, `masses` masses of `mass` below it at rest
-// length spacing (the lowest `lastMass`, when given), springs of stiffness k.
-std::unique_ptr<SubstepSimulation> chain(int masses, double mass, double k, double rest, double lastMass = 0.0) {
-    std::vector<Spring> springs;
-    std::vector<Vec3> positions;
-    std::vector<double> m;
-    for (int i = 0; i <= masses; ++i) {
-        positions.push_back(Vec3(0.0, -rest * i, 0.0));
-        m.push_back(i == masses && lastMass > 0.0 ? lastMass : mass);
-        if (i > 0) springs.push_back({uint32_t(i - 1), uint32_t(i), k, rest, SpringKind::Structural});
-    }
-    const uint32_t attached[] = {0};
-    ClothLevelDesc desc;
-    desc.vertexCount = uint32_t(positions.size());
-    desc.springs = springs;
-    desc.masses = m;
-    desc.attachedVertices = attached;
-    auto sim = SubstepSimulation::create(desc, positions);
-    EXPECT_TRUE(sim.isOk()) << sim.status().message();
-    return std::move(sim).value();
-}
+using test::hangingChain;
 
 } // namespace
 
@@ -94,7 +75,7 @@ TEST(SubstepSolver, HangingChainReachesTheExactDiscreteExtensions) {
     // steps settle it fast (backward Euler's damping); small ones barely damp the slow bounce.
     const int n = 8;
     const double mass = 0.01, k = 50.0, rest = 0.05;
-    auto sim = chain(n, mass, k, rest);
+    auto sim = hangingChain(n, mass, k, rest);
     SubstepSettings settings;
     settings.substeps = 1;
     for (int step = 0; step < 1000; ++step) ASSERT_TRUE(sim->step(1.0 / 20.0, settings).isOk());
@@ -602,7 +583,7 @@ TEST(SubstepExtremes, MassRatioOfAMillionKeepsTheExactEquilibrium) {
     // the bead and the light masses below it.
     const int n = 6;
     const double light = 1e-6, heavy = 1.0, k = 1000.0, rest = 0.05;
-    auto sim = chain(n, light, k, rest, heavy);
+    auto sim = hangingChain(n, light, k, rest, heavy);
     SubstepSettings settings;
     settings.substeps = 1;
     for (int step = 0; step < 1000; ++step) ASSERT_TRUE(sim->step(1.0 / 20.0, settings).isOk());
