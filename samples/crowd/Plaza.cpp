@@ -143,6 +143,7 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
             const double baseLength[4] = {0.5, 0.3, 0.45, 0.3};
             d.relativeLength = baseLength[k] * (v == 0 ? 1.0 : 0.8);
             d.velocityDamping = settings.velocityDamping;
+            d.damping = settings.stiffnessDamping;
             auto id = addDesign(world, d, settings);
             if (!id.isOk()) return id.status();
             variants[k].push_back(id.value());
@@ -158,6 +159,7 @@ cc::Result<Plaza> Plaza::create(cc::World& world, const PlazaSettings& settings)
         d.width = 0.7;
         d.length = 1.0;
         d.velocityDamping = settings.velocityDamping;
+        d.damping = settings.stiffnessDamping;
         auto id = addDesign(world, d, settings);
         if (!id.isOk()) return id.status();
         heroCape = id.value();

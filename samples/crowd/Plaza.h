@@ -34,6 +34,9 @@ struct PlazaSettings {
     uint32_t seed = 1;
     GarmentMix garments;
     double velocityDamping = 0.4; ///< [1/s] the garments' (ClothAssetDesc::velocityDamping)
+    /// [s] the garments' Rayleigh damping (ClothAssetDesc::damping): a tenth of the plaza stands,
+    /// and without it their skirts and dresses keep moving as in wind (README, garments at rest).
+    double stiffnessDamping = 0.01;
     double inertiaScale = 1.0;    ///< [-] the garments' (GarmentDesc::inertiaScale)
     /// The camera path; empty = the built-in one (a wide shot circling the crowd, a flight into a
     /// close-up of the character nearest the centre, and back, every 20 s).

@@ -98,6 +98,7 @@ Scene parse(const Json& root, const std::filesystem::path& directory) {
                           {"poncho", [&](const Json& x, const std::string& q) { c.garments.poncho = number(x, q, 0.0, 1e6); }}});
           }},
          {"velocityDamping", [&](const Json& v, const std::string& p) { c.velocityDamping = number(v, p, 0.0, 1000.0); }},
+         {"stiffnessDamping", [&](const Json& v, const std::string& p) { c.stiffnessDamping = number(v, p, 0.0, 10.0); }},
          {"inertiaScale", [&](const Json& v, const std::string& p) { c.inertiaScale = number(v, p, 0.0, 1.0); }},
          {"walkSpeed", [&](const Json& v, const std::string& p) { c.walkSpeed = number(v, p, 0.0, 20.0); }},
          {"camera",
@@ -176,6 +177,7 @@ cc::Status writeScene(const Scene& s, const std::string& path) {
         {"seed", c.seed},
         {"garments", {{"cape", c.garments.cape}, {"skirt", c.garments.skirt}, {"dress", c.garments.dress}, {"poncho", c.garments.poncho}}},
         {"velocityDamping", c.velocityDamping},
+        {"stiffnessDamping", c.stiffnessDamping},
         {"inertiaScale", c.inertiaScale},
         {"walkSpeed", c.walkSpeed},
         {"camera", cameraJson(c.camera.empty() ? Plaza::defaultCameraPath(c) : c.camera)},
