@@ -1,5 +1,7 @@
 #include "CookedAsset.h"
 
+#include "crowdcloth/core/BoundingSphere.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -204,9 +206,9 @@ Result<CookedAsset> cookClothPattern(const ClothAssetDesc& desc, const lod::Garm
 
     std::vector<Vec3> renderPositions, renderNormals;
     asset.levels.back().hierarchy.renderPositions(renderPositions, renderNormals);
-    for (const Vec3& p : renderPositions) asset.centroid += p;
-    asset.centroid /= double(std::max<std::size_t>(renderPositions.size(), 1));
-    for (const Vec3& p : renderPositions) asset.radius = std::max(asset.radius, (p - asset.centroid).norm());
+    const BoundingSphere bounds = centroidSphere(renderPositions);
+    asset.centroid = bounds.centre;
+    asset.radius = bounds.radius;
     return asset;
 }
 

@@ -9,26 +9,18 @@
 #include "RestartedWindows.h"
 #include "crowdcloth/ErrorTable.h"
 #include "crowdcloth/World.h"
+#include "crowdcloth/core/BoundingSphere.h"
 #include "crowdcloth/core/Statistics.h"
 
 namespace cc {
 namespace {
 
 /// [m] bounding radius about the centroid of xyz float positions: the garment's size the errors
-/// are divided by (CookedAsset::radius, taken at the window's end).
+/// are divided by (as CookedAsset::radius, taken at the window's end).
 double boundingRadius(const std::vector<float>& xyz) {
-    const std::size_t n = xyz.size() / 3;
-    double c[3] = {0.0, 0.0, 0.0};
-    for (std::size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) c[k] += xyz[3 * i + k];
-    for (double& x : c) x /= double(n);
-    double r2 = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3; ++k) d2 += (xyz[3 * i + k] - c[k]) * (xyz[3 * i + k] - c[k]);
-        r2 = std::max(r2, d2);
-    }
-    return std::sqrt(r2);
+    std::vector<Vec3> points(xyz.size() / 3);
+    for (std::size_t i = 0; i < points.size(); ++i) points[i] = Vec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    return centroidSphere(points).radius;
 }
 
 } // namespace

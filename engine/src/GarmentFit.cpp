@@ -2,6 +2,7 @@
 
 #include "PlacementRelaxation.h"
 
+#include "crowdcloth/core/BoundingSphere.h"
 #include "crowdcloth/core/ConvexHull.h"
 
 #include <algorithm>
@@ -757,11 +758,9 @@ Result<CookedAsset> cookFittedGarment(const ClothAssetDesc& design, const BodyAs
     }
     std::vector<Vec3> renderPositions, renderNormals;
     asset.levels.back().hierarchy.renderPositions(renderPositions, renderNormals);
-    asset.centroid = Vec3::Zero();
-    for (const Vec3& p : renderPositions) asset.centroid += p;
-    asset.centroid /= double(std::max<std::size_t>(renderPositions.size(), 1));
-    asset.radius = 0.0;
-    for (const Vec3& p : renderPositions) asset.radius = std::max(asset.radius, (p - asset.centroid).norm());
+    const BoundingSphere bounds = centroidSphere(renderPositions);
+    asset.centroid = bounds.centre;
+    asset.radius = bounds.radius;
     return asset;
 }
 
