@@ -404,7 +404,7 @@ void WorldImpl::simulateBatch(Batch& batch) {
     batch.reports.resize(batch.items.size());
     for (std::size_t item : batch.items) batch.lanes.push_back(mItems[item].garment->lane());
     const Status status = cloth::stepSubsteps(*batch.level->cloth, *batch.factor, batch.dt, batch.settings,
-                                              batch.lanes, batch.workspace, batch.reports);
+                                              batch.lanes, *mWorkspaces.borrow(), batch.reports);
     // The shared solve's time, split evenly: what each garment costs inside a batch.
     const double share = msSince(start) / double(batch.items.size());
     for (std::size_t k = 0; k < batch.items.size(); ++k) {

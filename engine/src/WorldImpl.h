@@ -11,6 +11,7 @@
 #include "HandlePool.h"
 #include "ShadowCheck.h"
 #include "TaskPool.h"
+#include "WorkspacePool.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/collision/CollisionDevice.h"
 #include "crowdcloth/lod/CostModel.h"
@@ -96,7 +97,6 @@ private:
         cloth::SubstepSettings settings;
         double dt = 0.0;
         std::vector<std::size_t> items;  ///< into mItems, at most cloth::kMaxSubstepLanes
-        cloth::SubstepWorkspace workspace;  ///< kept with the slot from frame to frame
         std::vector<cloth::SubstepLane> lanes;
         std::vector<cloth::SubstepLaneReport> reports;
     };
@@ -161,6 +161,7 @@ private:
     };
     std::vector<BatchKey> mBatchKeys;
     std::size_t mBatchCount = 0;
+    WorkspacePool mWorkspaces;  ///< the batches' solver scratch, borrowed per solve
     FactorCache mFactors;
 };
 
