@@ -46,10 +46,11 @@ struct SubstepSettings {
     /// 1 = symmetric springs; [0, 1]
     double compressionStiffness = 1.0;
     /// [s] Rayleigh stiffness-proportional damping beta (Baraff & Witkin 1998): the springs resist
-    /// their rate of strain with beta K v, implicit in Newton's step. It damps a mode of frequency w
-    /// by beta w / 2 of critical, so it settles the fast stretch and shear vibrations that contact
-    /// pushes feed on a resting garment and leaves the slow swing alone (0.01 s: 4 % of critical
-    /// at 4 rad/s). Newton only: local/global iterations damp those modes already; [0, 10]
+    /// motion with beta K v, K their Hessian (with the tension's stiffness across them), implicit in
+    /// Newton's step. It damps a mode of frequency w by beta w / 2 of critical, so it settles the
+    /// fast stretch and shear vibrations that contact pushes feed on a resting garment and barely
+    /// touches a swing (0.01 s: 4 % of critical at 4 rad/s; a translation not at all). Newton only:
+    /// local/global iterations damp those modes already; [0, 10]
     double stiffnessDamping = 0.0;
     Friction friction;             ///< Coulomb friction against contact surfaces
 
