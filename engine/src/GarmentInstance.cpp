@@ -164,7 +164,8 @@ collision::BodyContactSettings GarmentInstance::contactSettings() const {
     return settings;
 }
 
-Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateReport& outReport) {
+Status GarmentInstance::prepare(CharacterInstance& character, collision::BodyContactStage& stage,
+                                GarmentUpdateReport& outReport) {
     outReport = {};
     if (Status s = boundTargets(mAttachments, character, mTargets); !s) return s;
     const CookedLevel& level = mAsset->levels[mLevel];
@@ -189,7 +190,7 @@ Status GarmentInstance::prepare(CharacterInstance& character, GarmentUpdateRepor
             settings.query.pointMargins = mMargins;
         }
         const collision::Collider* colliders[1] = {context.collider};
-        if (Status s = mContactStage.gather(colliders, mStepStart, mStepStart, settings, mContacts); !s) return s;
+        if (Status s = stage.gather(colliders, mStepStart, mStepStart, settings, mContacts); !s) return s;
     }
     // Self-contacts as planes of the same solve (separating planes of each pair that can close
     // within the update): the solve keeps its layers apart with their neighbours answering, and
@@ -279,7 +280,8 @@ cloth::SubstepSettings GarmentInstance::solverSettings(int substeps, int iterati
     return settings;
 }
 
-Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport) {
+Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, collision::BodyContactStage& stage,
+                               GarmentUpdateReport& inOutReport) {
     const auto start = Clock::now();
     const CookedLevel& level = mAsset->levels[mLevel];
     // Against capsules (a garment small on screen) the update's contact planes are the whole
@@ -295,7 +297,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
         collision::BodyContactSettings settings = contactSettings();
         settings.query.pointMargins = mMargins;
         const collision::Collider* colliders[1] = {context.collider};
-        if (Status s = mContactStage.gather(colliders, mStepStart, mPositions, settings, mContacts); !s) return s;
+        if (Status s = stage.gather(colliders, mStepStart, mPositions, settings, mContacts); !s) return s;
         cloth::ContactResponse response;
         response.thickness = mAsset->desc.thickness;
         response.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
@@ -312,7 +314,7 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, Gar
             settings.continuous = false;
             settings.query.pointMargins = {};
             settings.query.margin = mAsset->desc.thickness;
-            if (Status s = mContactStage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
+            if (Status s = stage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
             if (Status s = cloth::resolveContacts(mContacts, response, *level.cloth, mPositions, mVelocities, nullptr,
                                                   mMoved);
                 !s)

@@ -96,7 +96,7 @@ public:
     bool switchLevel(int level, bool fade = true);
     /// Attachment targets and contact planes for an update against the character's body as it is
     /// this frame (context set).
-    Status prepare(CharacterInstance& character, GarmentUpdateReport& outReport);
+    Status prepare(CharacterInstance& character, collision::BodyContactStage& stage, GarmentUpdateReport& outReport);
     /// The solver's view of this garment for the update prepare() made ready.
     cloth::SubstepLane lane();
     /// The substep solver's settings for this garment's asset at the given effort: the World's
@@ -105,7 +105,8 @@ public:
     /// After the solve: self-collision if asked, then (against the body mesh) the body's swept and
     /// proximity corrections and the strain limit of `strainSettings` around the vertices they
     /// pushed.
-    Status finish(const cloth::SubstepSettings& strainSettings, GarmentUpdateReport& inOutReport);
+    Status finish(const cloth::SubstepSettings& strainSettings, collision::BodyContactStage& stage,
+                  GarmentUpdateReport& inOutReport);
     /// Brings the world-space render mesh (positions and normals as floats) up to date: the shape
     /// in the character's frame is rebuilt only if the state changed (or a level switch is still
     /// fading), the world placement only if that or the character moved. Render meshes are built
@@ -170,7 +171,6 @@ private:
     double mSpecificKineticEnergy = 0.0;    ///< [J/kg] measured after each update
     bool mLocalDirty = true;                ///< the state changed since mLocalRender was built
     bool mWorldDirty = true;                ///< mLocalRender changed since the world placement
-    collision::BodyContactStage mContactStage;
     std::vector<Contact> mContacts;
     std::vector<uint8_t> mMoved;            ///< per vertex: pushed by the body this update
     std::vector<double> mMargins;           ///< per vertex: how far a contact query looks for the body

@@ -117,7 +117,7 @@ bool ShadowCheck::openWindow(Follow& f, const GarmentRef& item) {
     return true;
 }
 
-bool ShadowCheck::update(GarmentInstance& g, cloth::SubstepWorkspace& workspace, double dt, int substeps,
+bool ShadowCheck::update(GarmentInstance& g, Follow& scratch, double dt, int substeps,
                          int iterations, const collision::Collider* collider, bool continuous,
                          CharacterInstance& character, const ShadowFrame& frame) {
     GarmentUpdateContext& context = g.context;
@@ -133,14 +133,14 @@ bool ShadowCheck::update(GarmentInstance& g, cloth::SubstepWorkspace& workspace,
     if (!factor.isOk()) return false;
 
     GarmentUpdateReport report;
-    if (!g.prepare(character, report)) return false;
+    if (!g.prepare(character, scratch.contactStage, report)) return false;
     const cloth::SubstepLane lane = g.lane();
     cloth::SubstepLaneReport laneReport;
     const Status solved = cloth::stepSubsteps(*g.cookedLevel().cloth, *factor.value(), dt, settings,
-                                              Span<const cloth::SubstepLane>(&lane, 1), workspace,
+                                              Span<const cloth::SubstepLane>(&lane, 1), scratch.workspace,
                                               Span<cloth::SubstepLaneReport>(&laneReport, 1));
     if (!solved || !laneReport.status) return false;
-    if (!g.finish(settings, report)) return false;
+    if (!g.finish(settings, scratch.contactStage, report)) return false;
     g.lastUpdateTime = frame.time;
     return true;
 }
@@ -153,10 +153,10 @@ bool ShadowCheck::advance(Follow& f, const GarmentRef& item, const ShadowFrame& 
     if (!f.mesh->update(character.skinnedPositions, frame.time - f.meshTime)) return false;
     f.meshTime = frame.time;
     const int substeps = int(mDesc.substeps), iterations = int(mDesc.iterations);
-    if (!update(*f.reference, f.workspace, frame.dt, substeps, iterations, f.mesh.get(), true, character, frame))
+    if (!update(*f.reference, f, frame.dt, substeps, iterations, f.mesh.get(), true, character, frame))
         return false;
     if (f.windowFramesLeft == 0) return true;
-    if (!update(*f.twin, f.workspace, frame.dt, substeps / 2, iterations, f.mesh.get(), true, character, frame))
+    if (!update(*f.twin, f, frame.dt, substeps / 2, iterations, f.mesh.get(), true, character, frame))
         return false;
     // The copy is updated when the garment is (every updateInterval-th frame, over the same step):
     // in between it is carried with the character, as the garment is drawn.
@@ -170,7 +170,7 @@ bool ShadowCheck::advance(Follow& f, const GarmentRef& item, const ShadowFrame& 
         f.capsulesTime = frame.time;
         collider = &f.capsules;
     }
-    return update(*f.copy, f.workspace, garment.context.dt, c.substeps, c.iterations, collider, c.continuous,
+    return update(*f.copy, f, garment.context.dt, c.substeps, c.iterations, collider, c.continuous,
                   character, frame);
 }
 

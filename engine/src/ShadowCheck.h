@@ -86,13 +86,15 @@ private:
         collision::CapsuleCollider capsules;                      ///< the copy's, when it runs on them
         bool capsulesMade = false;
         double capsulesTime = 0.0;
-        cloth::SubstepWorkspace workspace;
+        cloth::SubstepWorkspace workspace;         ///< scratch of the updates below
+        collision::BodyContactStage contactStage;
     };
     void drop(Follow& f);
     bool startFollowing(Follow& f, const GarmentRef& item, const ShadowFrame& frame);
     bool openWindow(Follow& f, const GarmentRef& item);
-    /// One update of `g` over `dt` at its level, `substeps` x `iterations`, against `collider`.
-    bool update(GarmentInstance& g, cloth::SubstepWorkspace& workspace, double dt, int substeps, int iterations,
+    /// One update of `g` over `dt` at its level, `substeps` x `iterations`, against `collider`, with
+    /// `scratch`'s workspace and contact stage.
+    bool update(GarmentInstance& g, Follow& scratch, double dt, int substeps, int iterations,
                 const collision::Collider* collider, bool continuous, CharacterInstance& character,
                 const ShadowFrame& frame);
     bool advance(Follow& f, const GarmentRef& item, const ShadowFrame& frame);

@@ -390,7 +390,7 @@ void WorldImpl::prepareGarment(const GarmentRef& item) {
         if (collider.isOk()) g.context.collider = collider.value();
     }
     GarmentUpdateReport report;
-    if (status) status = g.prepare(*item.character, report);
+    if (status) status = g.prepare(*item.character, *mContactStages.borrow(), report);
     stats.contacts = report.contacts;
     stats.collisionMs = report.collisionMs;
     stats.selfCollisionMs = report.selfCollisionMs;
@@ -415,7 +415,7 @@ void WorldImpl::simulateBatch(Batch& batch) {
         GarmentUpdateReport report;
         report.collisionMs = g.stats.collisionMs;
         report.selfCollisionMs = g.stats.selfCollisionMs;
-        if (result) result = g.finish(batch.settings, report);
+        if (result) result = g.finish(batch.settings, *mContactStages.borrow(), report);
         if (!result) fail(g, result);
         g.stats.collisionMs = report.collisionMs;
         g.stats.selfCollisionMs = report.selfCollisionMs;

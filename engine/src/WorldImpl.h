@@ -10,8 +10,8 @@
 #include "GarmentInstance.h"
 #include "HandlePool.h"
 #include "ShadowCheck.h"
+#include "ScratchPool.h"
 #include "TaskPool.h"
-#include "WorkspacePool.h"
 #include "crowdcloth/World.h"
 #include "crowdcloth/collision/CollisionDevice.h"
 #include "crowdcloth/lod/CostModel.h"
@@ -161,7 +161,8 @@ private:
     };
     std::vector<BatchKey> mBatchKeys;
     std::size_t mBatchCount = 0;
-    WorkspacePool mWorkspaces;  ///< the batches' solver scratch, borrowed per solve
+    ScratchPool<cloth::SubstepWorkspace> mWorkspaces;       ///< the batches' solver scratch, per solve
+    ScratchPool<collision::BodyContactStage> mContactStages; ///< the garments' contact scratch, per call
     FactorCache mFactors;
 };
 

@@ -23,7 +23,8 @@ struct BodyContactSettings {
 /// Used twice per step: before the solve with start = end = the cloth's positions (the body sweeps
 /// past still cloth), giving the contact planes; after the solve with (positions before, positions
 /// after), giving the position corrections. Owns its scratch so a warm stage does not allocate.
-/// One stage per garment; distinct stages may run concurrently on shared colliders.
+/// A stage holds only scratch: one per concurrent task (the World borrows them per call), and
+/// distinct stages may run concurrently on shared colliders.
 ///
 ///   BodyContactStage stage;
 ///   const std::vector<const Collider*> bodies{body.get()};
