@@ -124,7 +124,10 @@ RestMotion motionAtRest(const Garment& g, double damping, int settle, int measur
     const double dt = 1.0 / 60;
     std::vector<Vec3> previous, settled;
     for (int f = 0; f < 60 * (settle + measure); ++f) {
-        if (!world->step(dt).isOk()) return ADD_FAILURE() << g.name << ": frame " << f, out;
+        if (!world->step(dt).isOk()) {
+            ADD_FAILURE() << g.name << ": frame " << f;
+            return out;
+        }
         const GarmentStats stats = world->garmentStats(garment).value();
         EXPECT_FALSE(stats.failed);
         out.updates += stats.updated;
