@@ -5,7 +5,7 @@
 //
 //   cc_dress [--asset FILE] [--garment cape|skirt|dress|poncho] [--cut straight|aline|circle]
 //            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N] [--out DIR]
-//            [--height M] [--width W --length L] [--speed M/S] [--compression C]
+//            [--height M] [--width W --length L] [--speed M/S] [--compression C] [--damping S]
 //
 // --speed walks the character forward (its root along its facing, the camera following), as a
 // crowd's walkers do: the cloth then trails the body.
@@ -34,6 +34,7 @@ struct Options {
     int clipIndex = -1;
     double seconds = 3.0, rate = 60.0, height = 0.0, width = 0.0, length = 0.0, speed = 0.0;
     double compression = cc::ClothAssetDesc{}.compressionStiffness;
+    double damping = cc::ClothAssetDesc{}.damping;  ///< [s] Rayleigh (ClothAssetDesc::damping)
     int every = 30;
     std::string out = "dress_out";
 };
@@ -68,6 +69,7 @@ bool parse(int argc, char** argv, Options& o) {
         else if (a == "--rate") o.rate = std::atof(next().c_str());
         else if (a == "--speed") o.speed = std::atof(next().c_str());
         else if (a == "--compression") o.compression = std::atof(next().c_str());
+        else if (a == "--damping") o.damping = std::atof(next().c_str());
         else if (a == "--every") o.every = std::max(1, std::atoi(next().c_str()));
         else if (a == "--out") o.out = next();
         else if (a == "--height") o.height = std::atof(next().c_str());
@@ -132,6 +134,7 @@ int main(int argc, char** argv) {
     ad.width = o.width;
     ad.length = o.length;
     ad.compressionStiffness = o.compression;
+    ad.damping = o.damping;
     auto asset = world->addClothAsset(ad);
     if (!asset.isOk()) return fail("asset", asset.status());
     cc::CharacterDesc cd;
