@@ -3,8 +3,10 @@
 #include "QueryInput.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <string>
 
@@ -202,7 +204,8 @@ Status BodyCollider::Impl::buildScenes() {
     }
     RTCDevice dev = device->impl().device;
     scene = rtcNewScene(dev);
-    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC);
+    // Context filters: traceRays collects every crossing of a ray in one traversal.
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
     mesh = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Low quality: each update rebuilds this tree in place (Embree's Morton builder) instead of
@@ -429,6 +432,91 @@ bool proximityCallback(RTCPointQueryFunctionArguments* args) {
 Vec3 surfaceVelocity(const BodyCollider::Impl& body, uint32_t t, const std::array<double, 3>& w) {
     const auto& tri = body.shape->triangles[t];
     return w[0] * body.velocity[tri[0]] + w[1] * body.velocity[tri[1]] + w[2] * body.velocity[tri[2]];
+}
+
+} // namespace
+
+namespace {
+
+/// A ray's crossings of the body's closed parts, gathered by an intersection filter that records
+/// every hit and rejects it, so one traversal finds them all (Embree's "collect all hits").
+struct CrossingCollector {
+    RTCIntersectContext context;  // first: Embree hands the filter this pointer
+    const BodyCollider::Impl* body = nullptr;
+    Vec3 direction = Vec3::Zero();
+    static constexpr int kMax = 256;  // a ray through a body crosses a few dozen surfaces at most
+    std::array<std::pair<float, int8_t>, kMax> crossings{};  // distance, +1 leaving / -1 entering
+    int count = 0;
+};
+
+void collectCrossing(const RTCFilterFunctionNArguments* args);
+
+} // namespace
+
+Status BodyCollider::traceRays(Span<const Vec3> origins, Span<const Vec3> directions, Span<RayTrace> outTraces) const {
+    if (origins.size() != directions.size() || outTraces.size() != origins.size())
+        return Status::invalidArgument("BodyCollider::traceRays: one direction and one trace per origin");
+    if (Status s = detail::checkPoints(origins, "BodyCollider::traceRays"); !s) return s;
+    for (std::size_t i = 0; i < directions.size(); ++i)
+        if (!(std::abs(directions[i].norm() - 1.0) < 1e-6))
+            return Status::invalidArgument("BodyCollider::traceRays: direction " + std::to_string(i) + " is not a unit vector");
+    CrossingCollector collector;
+    collector.body = mImpl.get();
+    for (std::size_t i = 0; i < origins.size(); ++i) {
+        const Vec3& o = origins[i];
+        const Vec3& d = directions[i];
+        rtcInitIntersectContext(&collector.context);
+        collector.context.filter = collectCrossing;
+        collector.direction = d;
+        collector.count = 0;
+        RTCRayHit hit{};
+        hit.ray.org_x = float(o.x()), hit.ray.org_y = float(o.y()), hit.ray.org_z = float(o.z());
+        hit.ray.dir_x = float(d.x()), hit.ray.dir_y = float(d.y()), hit.ray.dir_z = float(d.z());
+        hit.ray.tnear = 0.0f;
+        hit.ray.tfar = std::numeric_limits<float>::infinity();
+        hit.ray.mask = 0xFFFFFFFFu;
+        hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(mImpl->scene, &collector.context, &hit);
+        // In order along the ray; a ray through a shared edge or vertex meets each of its
+        // triangles at one distance: one crossing.
+        auto* first = collector.crossings.data();
+        std::sort(first, first + collector.count);
+        int kept = 0;
+        for (int k = 0; k < collector.count; ++k) {
+            const auto& c = collector.crossings[std::size_t(k)];
+            const bool repeat = kept > 0 && c.second == collector.crossings[std::size_t(kept - 1)].second &&
+                                c.first - collector.crossings[std::size_t(kept - 1)].first <= 1e-6f * (1.0f + c.first);
+            if (!repeat) collector.crossings[std::size_t(kept++)] = c;
+        }
+        // Inside as many parts as the ray leaves more often than it enters; it is out of the body
+        // at the crossing where that count first drops to zero.
+        RayTrace trace;
+        for (int k = 0; k < kept; ++k) trace.partsInside += collector.crossings[std::size_t(k)].second;
+        int inside = trace.partsInside;
+        for (int k = 0; k < kept && inside > 0; ++k) {
+            inside -= collector.crossings[std::size_t(k)].second;
+            if (inside == 0) trace.firstExit = double(collector.crossings[std::size_t(k)].first);
+        }
+        outTraces[i] = trace;
+    }
+    return Status::ok();
+}
+
+namespace {
+
+void collectCrossing(const RTCFilterFunctionNArguments* args) {
+    auto* collector = reinterpret_cast<CrossingCollector*>(args->context);
+    const BodyCollider::Impl& body = *collector->body;
+    for (unsigned int k = 0; k < args->N; ++k) {
+        if (!args->valid[k]) continue;
+        args->valid[k] = 0;  // rejected: the traversal goes on to the next hit
+        const uint32_t t = RTCHitN_primID(args->hit, args->N, k);
+        if (!body.shape->partClosed[body.shape->part[t]] || body.degenerate[t]) continue;
+        // The body's own outward normals (Embree's Ng follows its winding convention, not ours).
+        const double facing = body.faceNormal[t].dot(collector->direction);
+        if (facing == 0.0 || collector->count == CrossingCollector::kMax) continue;
+        collector->crossings[std::size_t(collector->count++)] = {RTCRayN_tfar(args->ray, args->N, k), int8_t(facing > 0.0 ? 1 : -1)};
+    }
 }
 
 } // namespace

@@ -100,6 +100,22 @@ Result<std::shared_ptr<const BodyTopology>> BodyTopology::build(Span<const std::
         if (index[root] == UINT32_MAX) index[root] = b.partCount++;
         b.part[t] = index[root];
     }
+    // Closed: every edge of the part shared by exactly two of its triangles, once each way round.
+    b.partClosed.assign(b.partCount, 1);
+    for (std::size_t g = 0; g + 1 < b.edgeStart.size(); ++g) {
+        const uint32_t first = b.edgeStart[g], count = b.edgeStart[g + 1] - first;
+        const uint32_t slotA = b.edgeSlots[first];
+        const uint32_t part = b.part[slotA / 3];
+        bool twoWays = count == 2;
+        if (twoWays) {
+            // The edge runs a -> b in one triangle and b -> a in the other (consistent winding).
+            const uint32_t slotB = b.edgeSlots[first + 1];
+            const auto& ta = b.welded[slotA / 3];
+            const auto& tb = b.welded[slotB / 3];
+            twoWays = ta[slotA % 3] == tb[(slotB % 3 + 1) % 3] && ta[(slotA % 3 + 1) % 3] == tb[slotB % 3];
+        }
+        if (!twoWays) b.partClosed[part] = 0;
+    }
     return std::shared_ptr<const BodyTopology>(std::move(out));
 }
 

@@ -39,6 +39,9 @@ struct BodyTopology {
     /// may be inside another.
     std::vector<uint32_t> part;
     uint32_t partCount = 0;
+    /// Per part: 1 when it is a closed surface, consistently wound (each edge shared by two of its
+    /// triangles, running opposite ways): only a closed part has an inside a ray can count.
+    std::vector<uint8_t> partClosed;
 };
 
 } // namespace cc::collision

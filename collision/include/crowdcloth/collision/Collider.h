@@ -9,6 +9,12 @@
 
 namespace cc::collision {
 
+/// What a ray from a point meets on its way out of a body's closed parts (Collider::traceRays).
+struct RayTrace {
+    double firstExit = -1.0;  ///< [m] to the first crossing where it leaves a part; -1 = none
+    int32_t partsInside = 0;  ///< closed parts its origin is inside: exits less entries along it
+};
+
 /// Something cloth collides with that moves from a previous pose to the current one over each
 /// step: a body mesh (BodyCollider) or a set of capsule/sphere proxies (CapsuleCollider). The
 /// scheduler picks which one a garment uses; the contact stage treats them alike.
@@ -28,6 +34,16 @@ public:
     /// normal at the end of the step.
     virtual Status queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
                                    std::vector<Contact>& outContacts) const = 0;
+    /// Each ray from origins[i] along the unit direction directions[i], to infinity, through the
+    /// closed parts of the current surface (RayTrace). Takes a point found inside out along a
+    /// direction the caller knows, where the nearest surface may be a limb's far side. This default
+    /// sees no surface: nothing inside, no exit.
+    virtual Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions, Span<RayTrace> outTraces) const {
+        if (directions.size() != origins.size() || outTraces.size() != origins.size())
+            return Status::invalidArgument("Collider::traceRays: one direction and one trace per origin");
+        for (RayTrace& t : outTraces) t = RayTrace{};
+        return Status::ok();
+    }
 };
 
 } // namespace cc::collision
