@@ -60,7 +60,7 @@
                     X(predicted_error_px, predictedErrorPx) X(predicted_ms, predictedMs)           \
                         X(measured_ms, measuredMs) X(collision_ms, collisionMs)                    \
                             X(max_strain, maxStrain) X(max_attachment_error, maxAttachmentError)      \
-                                X(self_collision_ms, selfCollisionMs)
+                                X(self_collision_ms, selfCollisionMs) X(restarted, restarted)
 #define CC_SHADOW_RESULT_FIELDS(X)                                                                 \
     X(garment, garment)                                                                            \
     X(level, level) X(reference_level, referenceLevel) X(update_interval, updateInterval)          \

@@ -11,8 +11,6 @@
 namespace cc::detail {
 namespace {
 
-
-constexpr double kMaxContactReach = 0.25;     ///< [m] most a contact query looks for the body
 constexpr int kCorrectionLimitPasses = 32;    ///< sweeps of the strain limit after the body's pushes
 constexpr double kSurfaceFraction = 0.05;     ///< of the thickness: where the last push puts a vertex
 
@@ -79,36 +77,25 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
     // Cooked assets are fitted to the body and placed in its rest pose (GarmentFit): mPlacement stays 0.
     if (Status s = g->bindAttachments(character); !s) return s;
 
-    // Start at level 0 with every vertex carried by the body point nearest to it, so a skirt put
-    // on mid-stride starts around the legs where they are.
-    const CookedLevel& level0 = g->mAsset->levels[0];
-    std::vector<Vec3> bindPositions(level0.active.mesh.positions.size());
-    for (std::size_t i = 0; i < bindPositions.size(); ++i) bindPositions[i] = level0.active.mesh.positions[i] + g->mPlacement;
-    SkinBindingSettings wide;
-    wide.maxBindDistance = 10.0;
-    auto carried = bindToBody(*character.body, bindPositions, wide);
-    if (!carried.isOk()) return Status::invalidArgument("addGarment: " + carried.status().message());
-    std::vector<Vec3> start(bindPositions.size());
-    if (character.body->hostSkinned) {
-        hostTargets(carried.value(), character, start); // the latest vertices the host handed in
-    } else if (Status s = boundTargets(carried.value(), character, start); !s) {
-        return s;
-    }
-
     // Every buffer at the size of the finest level, so switching levels never allocates.
     std::size_t vertices = 0, attachedNodes = 0;
     for (const CookedLevel& level : g->mAsset->levels) {
         vertices = std::max(vertices, level.active.simToVertex.size());
         attachedNodes = std::max<std::size_t>(attachedNodes, level.cloth->attachedNodeCount());
     }
-    for (auto* buffer : {&g->mPositions, &g->mVelocities, &g->mSwapPositions, &g->mSwapVelocities, &g->mStepStart})
+    for (auto* buffer : {&g->mPositions, &g->mVelocities, &g->mSwapPositions, &g->mSwapVelocities, &g->mStepStart,
+                         &g->mSettleVelocities, &g->mSettleNormals, &g->mRayOrigins, &g->mRayDirections})
         buffer->reserve(vertices);
+    g->mRayVertices.reserve(vertices);
+    g->mRayTraces.reserve(vertices);
+    g->mSideTraces.reserve(vertices);
+    g->mSettleDepths.reserve(vertices);
     g->mContacts.reserve(vertices);
     g->mNodeTargets.reserve(attachedNodes);
     for (auto* buffer : {&g->mLocalRender, &g->mNormals, &g->mMorph}) buffer->reserve(g->mAsset->renderVertexCount);
-    g->mPositions = start;
-    g->mVelocities.assign(start.size(), Vec3::Zero());
     g->mLevel = 0;
+    if (Status s = g->bindRestPlacement(character); !s) return Status::invalidArgument("addGarment: " + s.message());
+    if (Status s = g->placeAtRest(character); !s) return s;
     g->mRenderIndices.reserve(3 * g->mAsset->renderTriangles.size());
     for (const auto& t : g->mAsset->renderTriangles) g->mRenderIndices.insert(g->mRenderIndices.end(), t.begin(), t.end());
     g->publish(character);
@@ -128,26 +115,58 @@ Status GarmentInstance::bindAttachments(const CharacterInstance& character) {
     return Status::ok();
 }
 
+void GarmentInstance::transferOneLevel(int direction) {
+    const CookedLevel& from = mAsset->levels[mLevel];
+    if (direction > 0) {
+        from.refine.apply(mPositions, mSwapPositions);
+        from.refine.apply(mVelocities, mSwapVelocities);
+        ++mLevel;
+    } else {
+        from.coarsenPositions.apply(mPositions, mSwapPositions);
+        from.coarsenVelocities.apply(mVelocities, mSwapVelocities);
+        --mLevel;
+    }
+    mPositions.swap(mSwapPositions);
+    mVelocities.swap(mSwapVelocities);
+}
+
+Status GarmentInstance::bindRestPlacement(const CharacterInstance& character) {
+    // Every vertex of level 0 carried by the torso's skin nearest to it, so a skirt put on
+    // mid-stride starts around the legs where they are.
+    const CookedLevel& level0 = mAsset->levels[0];
+    std::vector<Vec3> bindPositions(level0.active.mesh.positions.size());
+    for (std::size_t i = 0; i < bindPositions.size(); ++i) bindPositions[i] = level0.active.mesh.positions[i] + mPlacement;
+    SkinBindingSettings wide;
+    wide.maxBindDistance = 10.0;
+    auto carried = bindToBody(*character.body, bindPositions, wide);
+    if (!carried.isOk()) return carried.status();
+    mRestCarry = std::move(carried).value();
+    return Status::ok();
+}
+
+Status GarmentInstance::placeAtRest(CharacterInstance& character) {
+    // Level 0's placement refined to the current level: the same shape at every level, and a
+    // binding of a few dozen vertices (binding the finest level's took 10-20 ms).
+    const int level = mLevel;
+    mLevel = 0;
+    mPositions.resize(mRestCarry.size());
+    if (character.body->hostSkinned) {
+        hostTargets(mRestCarry, character, mPositions); // the latest vertices the host handed in
+    } else if (Status s = boundTargets(mRestCarry, character, mPositions); !s) {
+        return s;
+    }
+    mVelocities.assign(mPositions.size(), Vec3::Zero());
+    while (mLevel < level) transferOneLevel(1);
+    return Status::ok();
+}
+
 bool GarmentInstance::switchLevel(int level, bool fade) {
     if (level == mLevel) return false;
     // What is on screen now (including any fade still running from an earlier switch) is kept in
     // mMorph until the new level's render positions are known.
     refreshLocalRender();
     mMorph = mLocalRender;
-    while (mLevel != level) {
-        const CookedLevel& from = mAsset->levels[mLevel];
-        if (level > mLevel) {
-            from.refine.apply(mPositions, mSwapPositions);
-            from.refine.apply(mVelocities, mSwapVelocities);
-            ++mLevel;
-        } else {
-            from.coarsenPositions.apply(mPositions, mSwapPositions);
-            from.coarsenVelocities.apply(mVelocities, mSwapVelocities);
-            --mLevel;
-        }
-        mPositions.swap(mSwapPositions);
-        mVelocities.swap(mSwapVelocities);
-    }
+    while (mLevel != level) transferOneLevel(level > mLevel ? 1 : -1);
     localRenderPositions(mLocalRender);
     for (std::size_t r = 0; r < mMorph.size(); ++r) mMorph[r] -= mLocalRender[r];
     mMorphFramesLeft = fade ? kMorphFrames : 0;
@@ -171,8 +190,13 @@ Status GarmentInstance::prepare(CharacterInstance& character, collision::BodyCon
     const CookedLevel& level = mAsset->levels[mLevel];
     mNodeTargets.resize(level.attachedSlot.size());
     for (std::size_t k = 0; k < level.attachedSlot.size(); ++k) mNodeTargets[k] = mTargets[level.attachedSlot[k]];
-    mStepStart = mPositions;
     const auto start = Clock::now();
+    mSettled = false;
+    // (A new garment starts from its fitted placement, which the fit keeps outside the body.)
+    if (context.collider && !context.proxies && mSteppedLevel >= 0 && (!mSteppedOnMesh || mLevel > mSteppedLevel)) {
+        if (Status s = settleOntoMesh(character, stage, outReport); !s) return s;
+    }
+    mStepStart = mPositions;
     // Contact planes from the still cloth against the body's end pose, once for the whole update
     // (the body sweeps past the cloth; the substeps move each plane along its surface velocity).
     // Each vertex looks as far as its own motion may carry it (Bridson, Fedkiw & Anderson 2002
@@ -280,8 +304,8 @@ cloth::SubstepSettings GarmentInstance::solverSettings(int substeps, int iterati
     return settings;
 }
 
-Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, collision::BodyContactStage& stage,
-                               GarmentUpdateReport& inOutReport) {
+Status GarmentInstance::finish(CharacterInstance& character, const cloth::SubstepSettings& strainSettings,
+                               collision::BodyContactStage& stage, GarmentUpdateReport& inOutReport) {
     const auto start = Clock::now();
     const CookedLevel& level = mAsset->levels[mLevel];
     // Against capsules (a garment small on screen) the update's contact planes are the whole
@@ -349,6 +373,9 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, col
         }
         inOutReport.selfCollisionMs += msSince(selfStart);
     }
+    if (mSettled) {
+        if (Status s = restartIfTangled(character, stage, inOutReport); !s) return s;
+    }
     if ((context.collider && !context.proxies) || context.selfCollision) weldCopies(level.active, mPositions, mVelocities);
     inOutReport.collisionMs += msSince(start);
     const auto& masses = level.active.masses;
@@ -358,6 +385,8 @@ Status GarmentInstance::finish(const cloth::SubstepSettings& strainSettings, col
         energy += 0.5 * masses[v] * mVelocities[v].squaredNorm();
     }
     mSpecificKineticEnergy = mass > 0.0 ? energy / mass : 0.0;
+    mSteppedLevel = mLevel;
+    mSteppedOnMesh = context.collider && !context.proxies;
     mLocalDirty = true;
     return Status::ok();
 }

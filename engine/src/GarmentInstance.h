@@ -38,6 +38,7 @@ struct GarmentUpdateContext {
     /// instead of being pushed out after it where the strain limit cannot follow. 0 = planes only
     /// within the thickness of the body.
     double contactLookahead = 2.0;
+    double strainLimit = 0.1;  ///< [-] the World's, for the settle onto the body mesh (prepare())
 };
 
 /// What the last update did besides the solve.
@@ -45,6 +46,7 @@ struct GarmentUpdateReport {
     uint32_t contacts = 0;         ///< contact planes of the solve, the body's and self-contacts'
     uint32_t failSafes = 0;
     uint32_t bodyCorrections = 0;  ///< vertices the body pushed out after the solve
+    bool restarted = false;        ///< found tangled with the body, started again from its placement
     double collisionMs = 0.0;  ///< [ms] contacts and self-collision
     double selfCollisionMs = 0.0;  ///< [ms] of collisionMs: self-collision alone
 };
@@ -105,8 +107,8 @@ public:
     /// After the solve: self-collision if asked, then (against the body mesh) the body's swept and
     /// proximity corrections and the strain limit of `strainSettings` around the vertices they
     /// pushed.
-    Status finish(const cloth::SubstepSettings& strainSettings, collision::BodyContactStage& stage,
-                  GarmentUpdateReport& inOutReport);
+    Status finish(CharacterInstance& character, const cloth::SubstepSettings& strainSettings,
+                  collision::BodyContactStage& stage, GarmentUpdateReport& inOutReport);
     /// Brings the world-space render mesh (positions and normals as floats) up to date: the shape
     /// in the character's frame is rebuilt only if the state changed (or a level switch is still
     /// fading), the world placement only if that or the character moved. Render meshes are built
@@ -136,9 +138,39 @@ public:
 
 private:
     GarmentInstance() = default;
+    static constexpr double kMaxContactReach = 0.25;  ///< [m] the farthest a contact query looks for the body
     Status bindAttachments(const CharacterInstance& character);
     /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses).
     Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
+    /// One level finer (+1) or coarser (-1) through the cooked transfers, positions and velocities.
+    void transferOneLevel(int direction);
+    /// Before an update against the body mesh when the last update was not (capsules, asleep, new)
+    /// or was at a coarser level: the state goes back to the level it was stepped at and out of
+    /// the mesh there, then is refined and settled again, each vertex inside leaving the body on
+    /// its neighbours' side; a state still tangled with the body starts again from its placement
+    /// (outReport.restarted). MeshSettle.cpp.
+    Status settleOntoMesh(CharacterInstance& character, collision::BodyContactStage& stage,
+                          GarmentUpdateReport& outReport);
+    /// After the update that followed a settle: a garment the solve stretched to twice its length
+    /// was tangled with the body in a way the settle cannot see (a coarse hem between the legs,
+    /// outside the body but through it), and starts again from its placement (inOutReport.restarted).
+    Status restartIfTangled(CharacterInstance& character, collision::BodyContactStage& stage,
+                            GarmentUpdateReport& inOutReport);
+    /// The strain past which a settled garment counts as tangled with the body.
+    double tangledStrain() const;
+    /// One level of the settle: the vertices inside the body go out (along their side where it has
+    /// an exit, else to the nearest surface), the strain limit after each round, velocities kept;
+    /// outStillInside counts what the last round left inside.
+    Status settleLevel(collision::BodyContactStage& stage, uint32_t& outStillInside);
+    /// mSettleNormals: per vertex, the side of the body it is on (outside ones near the body, the
+    /// nearest part's outward normal; inside ones, their neighbours'); zero where unknown. Reads
+    /// mRayTraces' inside counts.
+    Status sideNormals(collision::BodyContactStage& stage);
+    /// mRestCarry for the character's body (create()).
+    Status bindRestPlacement(const CharacterInstance& character);
+    /// The fitted placement, carried by the torso's skin to the character's pose, at the current
+    /// level and at rest (a new garment, and one whose state was found tangled with the body).
+    Status placeAtRest(CharacterInstance& character);
     /// Makes mSelf (and mSelfMasses) for the current level if it is for another.
     Status prepareSelfCollision();
     /// mSelf's resolve from the step's start to the positions now, its corrections as impulses;
@@ -156,9 +188,21 @@ private:
     int mForceLevel = -1;
     Vec3 mPlacement = Vec3::Zero();         ///< asset space -> body bind space
     int mLevel = 0;
+    int mSteppedLevel = -1;       ///< the level of the last update; -1 = none yet (snapshotted)
+    bool mSteppedOnMesh = false;  ///< the last update collided with the body mesh (snapshotted)
+    bool mSettled = false;        ///< this update's prepare() settled the state onto the mesh
     std::vector<Vec3> mPositions, mVelocities;   ///< [m], [m/s] per simulation vertex, character frame
     std::vector<Vec3> mSwapPositions, mSwapVelocities;  ///< level-switch scratch
+    std::vector<Vec3> mSettleVelocities;    ///< velocities kept across settleOntoMesh's moves
+    std::vector<Vec3> mSettleNormals;       ///< per vertex: the side of the body it is on (settle)
+    std::vector<double> mSettleDepths;      ///< per vertex: the depth of the contact its side is from
+    std::vector<Vec3> mRayDirections;       ///< per vertex: the settle's ray out of the body
+    std::vector<collision::RayTrace> mRayTraces;  ///< and what it met
+    std::vector<collision::RayTrace> mSideTraces; ///< the rays of the vertices inside, along their sides
+    std::vector<uint32_t> mRayVertices;     ///< vertices the settle moves out of the body,
+    std::vector<Vec3> mRayOrigins;          ///< and where they are
     SkinBinding mAttachments;               ///< the asset's attachment line, bound to the body
+    SkinBinding mRestCarry;                 ///< level 0's fitted placement, bound to the torso's skin
     std::vector<Vec3> mTargets;             ///< per attachment slot (character space)
     std::vector<Vec3> mNodeTargets;         ///< per attached node of the current level
     std::vector<Vec3> mMorph;               ///< render offsets left by a level switch, fading

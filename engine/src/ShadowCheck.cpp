@@ -126,6 +126,7 @@ bool ShadowCheck::update(GarmentInstance& g, Follow& scratch, double dt, int sub
     context.collider = collider;
     context.continuous = continuous;
     context.proxies = false;
+    context.strainLimit = frame.strainLimit;
     setInertialForces(g, character, frame.gravity, frame.time - g.lastUpdateTime, frame.longestStep);
 
     const cloth::SubstepSettings settings = g.solverSettings(substeps, iterations, frame.strainLimit);
@@ -140,7 +141,7 @@ bool ShadowCheck::update(GarmentInstance& g, Follow& scratch, double dt, int sub
                                               Span<const cloth::SubstepLane>(&lane, 1), scratch.workspace,
                                               Span<cloth::SubstepLaneReport>(&laneReport, 1));
     if (!solved || !laneReport.status) return false;
-    if (!g.finish(settings, scratch.contactStage, report)) return false;
+    if (!g.finish(character, settings, scratch.contactStage, report)) return false;
     g.lastUpdateTime = frame.time;
     return true;
 }

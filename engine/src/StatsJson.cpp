@@ -49,7 +49,8 @@ std::string WorldImpl::statsJson() const {
             << ",\"failed\":" << (s.failed ? "true" : "false") << ",\"screenRadiusPx\":" << s.screenRadiusPx
             << ",\"errorPx\":" << s.predictedErrorPx << ",\"predictedMs\":" << s.predictedMs
             << ",\"measuredMs\":" << s.measuredMs << ",\"collisionMs\":" << s.collisionMs << ",\"selfCollisionMs\":" << s.selfCollisionMs
-            << ",\"maxStrain\":" << s.maxStrain << ",\"maxAttachmentError\":" << s.maxAttachmentError << "}";
+            << ",\"maxStrain\":" << s.maxStrain << ",\"maxAttachmentError\":" << s.maxAttachmentError
+            << ",\"restarted\":" << (s.restarted ? "true" : "false") << "}";
         first = false;
     });
     out << "]}";

@@ -381,6 +381,7 @@ void WorldImpl::prepareGarment(const GarmentRef& item) {
     g.context.continuous = schedule.collision == lod::CollisionDetail::MeshContinuous;
     g.context.proxies = schedule.collision == lod::CollisionDetail::Proxies && !item.character->body->hostSkinned;
     g.context.selfCollision = schedule.selfCollision && mDesc.selfCollision;
+    g.context.strainLimit = mDesc.strainLimit;
     Status status;
     if (schedule.collision != lod::CollisionDetail::None) {
         auto collider = schedule.collision == lod::CollisionDetail::Proxies
@@ -392,6 +393,7 @@ void WorldImpl::prepareGarment(const GarmentRef& item) {
     GarmentUpdateReport report;
     if (status) status = g.prepare(*item.character, *mContactStages.borrow(), report);
     stats.contacts = report.contacts;
+    stats.restarted = report.restarted;
     stats.collisionMs = report.collisionMs;
     stats.selfCollisionMs = report.selfCollisionMs;
     if (!status) fail(g, status);
@@ -415,11 +417,12 @@ void WorldImpl::simulateBatch(Batch& batch) {
         GarmentUpdateReport report;
         report.collisionMs = g.stats.collisionMs;
         report.selfCollisionMs = g.stats.selfCollisionMs;
-        if (result) result = g.finish(batch.settings, *mContactStages.borrow(), report);
+        if (result) result = g.finish(*item.character, batch.settings, *mContactStages.borrow(), report);
         if (!result) fail(g, result);
         g.stats.collisionMs = report.collisionMs;
         g.stats.selfCollisionMs = report.selfCollisionMs;
         g.stats.failSafes = report.failSafes;
+        g.stats.restarted = g.stats.restarted || report.restarted;
         g.stats.substeps = uint32_t(batch.settings.substeps);
         g.stats.iterations = uint32_t(batch.settings.substeps * batch.settings.iterations);
         g.lastUpdateTime = mTime - g.context.carried;

@@ -18,7 +18,7 @@ namespace {
 
 constexpr char kMagic[8] = {'C', 'C', 'W', 'O', 'R', 'L', 'D', '\x1a'};  // 0x1a: text-mode copies break it
 /// Bump on any change to what is written; a snapshot of another version is refused by name.
-constexpr uint32_t kFormatVersion = 2;
+constexpr uint32_t kFormatVersion = 3;
 constexpr uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = kSnapshotHeaderBytes;
 
@@ -243,6 +243,8 @@ Status CharacterInstance::restoreState(SnapshotReader& r, collision::CollisionDe
 
 void GarmentInstance::saveState(SnapshotWriter& w) const {
     w.put(int32_t(mLevel));
+    w.put(int32_t(mSteppedLevel));
+    w.put(uint8_t(mSteppedOnMesh));
     w.putVector(mPositions);
     w.putVector(mVelocities);
     w.putVector(mMorph);
@@ -259,6 +261,10 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     const int level = r.get<int32_t>();
     const int levelCount = int(mAsset->levels.size());
     if (r.ok() && !(level >= 0 && level < levelCount)) r.fail("a garment's level is out of range");
+    const int steppedLevel = r.get<int32_t>();
+    const uint8_t steppedOnMesh = r.get<uint8_t>();
+    if (r.ok() && !(steppedLevel >= -1 && steppedLevel < levelCount && steppedOnMesh <= 1))
+        r.fail("a garment's last update (level, collision) is out of range");
     auto positions = r.getFiniteVec3s("a garment vertex");
     auto velocities = r.getFiniteVec3s("a garment velocity");
     auto morph = r.getFiniteVec3s("a level switch's fade");
@@ -283,6 +289,8 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     }
     // assign() into the buffers create() sized for the finest level: nothing reallocates later.
     mLevel = level;
+    mSteppedLevel = steppedLevel;
+    mSteppedOnMesh = steppedOnMesh == 1;
     mPositions.assign(positions.begin(), positions.end());
     mVelocities.assign(velocities.begin(), velocities.end());
     mMorph.assign(morph.begin(), morph.end());

@@ -64,6 +64,8 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
         ->check(CLI::IsMember({"obj", "glb"}));
     app.add_flag("--frame-stats", o.frameStats, "Write every frame's stats (World::statsJson) to "
                                                 "OUT/frame_stats.jsonl, one JSON line per frame");
+    app.add_flag("--fixed-costs", o.fixedCosts, "Schedule by the World's fixed cost model instead of measured costs "
+                                                "(WorldDesc::fixedCostModel): a run repeats exactly, frame for frame");
     app.add_flag("--full-resolution", o.fullResolution, "Every garment at its finest level and updated every frame "
                                                         "(no budget, no LOD): the cost LOD saves");
     const std::map<std::string, int> kPresets = {{"fast", int(cc::QualityPreset::Fast)},

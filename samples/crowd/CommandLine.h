@@ -27,6 +27,7 @@ struct RunOptions {
     int supersample = 1;
     int threads = 0;
     bool fullResolution = false;  ///< every garment at its finest level, every frame (no budget)
+    bool fixedCosts = false;      ///< WorldDesc::fixedCostModel: the schedule repeats, whatever the timing
     std::string errorTables;      ///< cache of measured error tables (PlazaSettings::errorTables); empty = none
     int preset = -1;              ///< a cc::QualityPreset for the World; -1 = the default WorldDesc
     double churn = 0.0;           ///< [1/s] share of the crowd replaced per second (a soak's joins and leaves)

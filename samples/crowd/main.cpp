@@ -93,6 +93,7 @@ int runCrowd(const RunOptions& o) {
     cc::WorldDesc desc;
     desc.maxThreads = uint32_t(o.threads);
     desc.frameBudgetMs = scene.budgetMs;
+    desc.fixedCostModel = o.fixedCosts;
     if (o.preset >= 0)
         if (cc::Status s = desc.applyPreset(cc::QualityPreset(uint32_t(o.preset))); !s) return fail(s.message());
     if (o.fullResolution) crowd::useFullResolution(desc);

@@ -6,7 +6,13 @@
 //   cc_dress [--asset FILE] [--garment cape|skirt|dress|poncho] [--cut straight|aline|circle]
 //            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N] [--out DIR]
 //            [--height M] [--width W --length L] [--speed M/S] [--compression C] [--damping S]
+//            [--level L] [--far S]
 //
+// --level steps the garment at level L instead of its finest (without it, the finest); --far tells
+// the World for the first S seconds that the camera is 40 m away (the garment then runs as a
+// crowd's distant garments do: unforced, it takes the level the World gives it, against the body's
+// capsules, with no budget left over to refine it) while the frames are still drawn close up; then
+// the camera cuts to the close-up.
 // --speed walks the character forward (its root along its facing, the camera following), as a
 // crowd's walkers do: the cloth then trails the body.
 #include <cmath>
@@ -36,6 +42,8 @@ struct Options {
     double compression = cc::ClothAssetDesc{}.compressionStiffness;
     double damping = cc::ClothAssetDesc{}.damping;  ///< [s] Rayleigh (ClothAssetDesc::damping)
     int every = 30;
+    int level = -1;    ///< forced level; -1 = the finest
+    double far = 0.0;  ///< [s] the World's camera 40 m away until then
     std::string out = "dress_out";
 };
 
@@ -72,6 +80,8 @@ bool parse(int argc, char** argv, Options& o) {
         else if (a == "--damping") o.damping = std::atof(next().c_str());
         else if (a == "--every") o.every = std::max(1, std::atoi(next().c_str()));
         else if (a == "--out") o.out = next();
+        else if (a == "--level") o.level = std::atoi(next().c_str());
+        else if (a == "--far") o.far = std::atof(next().c_str());
         else if (a == "--height") o.height = std::atof(next().c_str());
         else if (a == "--width") o.width = std::atof(next().c_str());
         else if (a == "--length") o.length = std::atof(next().c_str());
@@ -104,6 +114,7 @@ int main(int argc, char** argv) {
     if (!parse(argc, argv, o)) return 2;
     cc::WorldDesc wd;
     wd.fixedCostModel = true;
+    wd.spendSlack = o.far == 0.0;  // far away, the level the pixel tolerance needs (a crowd has no slack)
     auto created = cc::World::create(wd);
     if (!created.isOk()) return fail("world", created.status());
     std::unique_ptr<cc::World, WorldDeleter> world(created.value());
@@ -146,7 +157,7 @@ int main(int argc, char** argv) {
     auto character = world->addCharacter(cd);
     if (!character.isOk()) return fail("character", character.status());
     cc::GarmentDesc gd;
-    gd.forceLevel = 4;
+    gd.forceLevel = o.level >= 0 ? o.level : o.far > 0.0 ? -1 : int(ad.levelCount) - 1;
     auto garment = world->addGarment(asset.value(), character.value(), gd);
     if (!garment.isOk()) return fail("garment", garment.status());
 
@@ -194,7 +205,7 @@ int main(int argc, char** argv) {
         (void)world->setCharacterRoot(character.value(), target, 0.0);
         cc::CameraDesc camera;
         const Eigen::Vector3d centre = root + Eigen::Vector3d(0, centreY, 0);
-        viewProjection(centre + reach * forward, centre, 1.0, camera.viewProjection);
+        viewProjection(centre + (f / o.rate <= o.far ? 40.0 : reach) * forward, centre, 1.0, camera.viewProjection);
         (void)world->setCameras(&camera, 1);
         if (cc::Status s = world->step(1.0 / o.rate); !s) return fail("step", s);
         const cc::GarmentStats st = world->garmentStats(garment.value()).value();

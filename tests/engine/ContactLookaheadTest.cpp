@@ -78,7 +78,7 @@ Update throwCapeAtBody(double lookahead, double speed) {
                     .isOk());
     EXPECT_TRUE(laneReport.status.isOk()) << laneReport.status.message();
     const std::vector<Vec3> solved(lane.positions.begin(), lane.positions.end());
-    EXPECT_TRUE(g.finish(settings, stage, report).isOk());
+    EXPECT_TRUE(g.finish(character, settings, stage, report).isOk());
     lane = g.lane();
     for (std::size_t v = 0; v < solved.size(); ++v) {
         const double push = (lane.positions[v] - solved[v]).norm();

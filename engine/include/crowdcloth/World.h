@@ -251,6 +251,9 @@ struct GarmentStats {
     double maxStrain = 0.0;          ///< [-] largest edge strain after the update
     double maxAttachmentError = 0.0; ///< [m] largest distance of an attached vertex from its skinned
                                      ///< target after the update
+    bool restarted = false;          ///< met the body mesh tangled with it (after capsules far away,
+                                     ///< a coarse level, a camera cut) and started again from its
+                                     ///< fitted placement, carried by the torso to this pose
 };
 
 /// Totals of the last frame.

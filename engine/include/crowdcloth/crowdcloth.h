@@ -156,6 +156,7 @@ typedef struct cc_garment_stats {
     double screen_radius_px, predicted_error_px, predicted_ms, measured_ms, collision_ms, max_strain;
     double max_attachment_error;  /* [m] */
     double self_collision_ms;     /* [ms] of collision_ms spent on self-collision */
+    int32_t restarted;            /* tangled with the body mesh: started again from its placement */
 } cc_garment_stats;
 
 typedef struct cc_frame_stats {
