@@ -37,16 +37,6 @@ InsideCount insideTheBody(World& world, GarmentId garment, CharacterId character
     return count;
 }
 
-const char* kindName(GarmentKind kind) {
-    switch (kind) {
-    case GarmentKind::Cape: return "cape";
-    case GarmentKind::Skirt: return "skirt";
-    case GarmentKind::Dress: return "dress";
-    case GarmentKind::Poncho: return "poncho";
-    }
-    return "?";
-}
-
 struct CutResult {
     InsideCount before, after;  ///< far away at the cut; the most after it
     double worstStrain = 0.0;   ///< after the cut
@@ -83,7 +73,7 @@ CutResult runCut(GarmentKind kind, bool finest) {
         EXPECT_TRUE(world->setCameras(&camera, 1).isOk());
         EXPECT_TRUE(world->step(dt).isOk());
         const GarmentStats stats = world->garmentStats(garment).value();
-        EXPECT_FALSE(stats.failed) << kindName(kind) << " frame " << f;
+        EXPECT_FALSE(stats.failed) << test::kindName(kind) << " frame " << f;
         if (f == kCut) {
             EXPECT_EQ(stats.level, finest ? int(asset.levelCount) - 1 : 0);
             EXPECT_EQ(stats.collision, CollisionKind::Proxies) << "far away: the capsules";
@@ -102,40 +92,39 @@ CutResult runCut(GarmentKind kind, bool finest) {
     }
     std::printf("%s%s: far away %d render vertices inside the body (deepest %.0f mm); after the cut at most %d "
                 "(deepest %.1f mm), %d restart(s), max strain %.1f %%\n",
-                kindName(kind), finest ? " (finest level)" : "", r.before.vertices, 1e3 * r.before.deepest,
+                test::kindName(kind), finest ? " (finest level)" : "", r.before.vertices, 1e3 * r.before.deepest,
                 r.after.vertices, 1e3 * r.after.deepest, r.restarts, 100.0 * r.worstStrain);
     return r;
 }
 
-constexpr GarmentKind kKinds[] = {GarmentKind::Cape, GarmentKind::Skirt, GarmentKind::Dress, GarmentKind::Poncho};
 const double kThickness = ClothAssetDesc{}.thickness;
 /// What a garment's walk close up reaches anyway: the dress (hung under the arms, which swing
 /// into its sides) 45-58 % from its start; the rest stay within 30 %.
 constexpr double kStrainBound = 0.6;
 
 TEST(CameraCut, FromLevelZeroTheTangledGarmentStartsAgainOutsideTheBody) {
-    for (GarmentKind kind : kKinds) {
+    for (GarmentKind kind : test::kGarmentKinds) {
         const CutResult r = runCut(kind, false);
         // What makes the case: far away level 0 lies inside the body (measured: 57-334 of 312-572
         // render vertices, 68-95 mm deep), tangled with it beyond what a settle undoes.
-        EXPECT_GT(r.before.vertices, 10) << kindName(kind);
-        EXPECT_LE(r.restarts, 1) << kindName(kind) << ": started again at most once, at the cut";
-        EXPECT_LE(r.after.deepest, kThickness) << kindName(kind);
+        EXPECT_GT(r.before.vertices, 10) << test::kindName(kind);
+        EXPECT_LE(r.restarts, 1) << test::kindName(kind) << ": started again at most once, at the cut";
+        EXPECT_LE(r.after.deepest, kThickness) << test::kindName(kind);
         // Measured: cape 6.5 % and poncho 19 % (both started again), skirt 3.0 % (started again),
         // dress 47 % (settled; its walk close up from the start reaches 45-58 %); without the
         // settle 430, 120, 190 and 300 %, for seconds.
-        EXPECT_LE(r.worstStrain, kStrainBound) << kindName(kind);
+        EXPECT_LE(r.worstStrain, kStrainBound) << test::kindName(kind);
     }
 }
 
 TEST(CameraCut, FromTheCapsulesAtTheFinestLevelTheGarmentSettlesOntoTheMesh) {
     // Only the collision changes at the cut: what the capsules let into the mesh (they are not the
     // mesh) is settled out, and the garment goes on where it was.
-    for (GarmentKind kind : kKinds) {
+    for (GarmentKind kind : test::kGarmentKinds) {
         const CutResult r = runCut(kind, true);
-        EXPECT_EQ(r.restarts, 0) << kindName(kind);
-        EXPECT_LE(r.after.deepest, kThickness) << kindName(kind);
-        EXPECT_LE(r.worstStrain, kStrainBound) << kindName(kind);
+        EXPECT_EQ(r.restarts, 0) << test::kindName(kind);
+        EXPECT_LE(r.after.deepest, kThickness) << test::kindName(kind);
+        EXPECT_LE(r.worstStrain, kStrainBound) << test::kindName(kind);
     }
 }
 

@@ -14,6 +14,7 @@
 #include "BodyAsset.h"
 #include "GarmentFit.h"
 #include "crowdcloth/World.h"
+#include "support/CrowdScenes.h"
 #include "support/WorldPtr.h"
 #include "crowdcloth/character/Mannequin.h"
 #include "crowdcloth/import/CharacterIO.h"
@@ -31,17 +32,6 @@ WorldPtr makeWorld() {
     return WorldPtr(World::create(d).value());
 }
 
-const char* kindName(GarmentKind k) {
-    switch (k) {
-    case GarmentKind::Cape: return "cape";
-    case GarmentKind::Skirt: return "skirt";
-    case GarmentKind::Dress: return "dress";
-    case GarmentKind::Poncho: return "poncho";
-    }
-    return "?";
-}
-
-constexpr GarmentKind kKinds[] = {GarmentKind::Cape, GarmentKind::Skirt, GarmentKind::Dress, GarmentKind::Poncho};
 
 /// The cut a World fits `design` to on `body` (through a character wearing it).
 Result<ClothAssetDesc> fitOn(World& world, BodyId body, const ClothAssetDesc& design) {
@@ -66,13 +56,13 @@ TEST(GarmentFit, SizesDeriveFromTheBody) {
     for (const MannequinDesc& md : {MannequinDesc{}, wide, small}) {
         const BodyId body = world->addMannequinBody(md).value();
         const BodyLandmarkDesc l = world->bodyLandmarks(body).value();
-        for (GarmentKind kind : kKinds) {
+        for (GarmentKind kind : test::kGarmentKinds) {
             ClothAssetDesc d;
             d.kind = kind;
             auto fit = fitOn(*world, body, d);
-            ASSERT_TRUE(fit.isOk()) << kindName(kind) << ": " << fit.status().message();
+            ASSERT_TRUE(fit.isOk()) << test::kindName(kind) << ": " << fit.status().message();
             const ClothAssetDesc& f = fit.value();
-            std::printf("%.2f m mannequin, %s: width %.3f, length %.3f, hem %.3f\n", md.height, kindName(kind), f.width, f.length,
+            std::printf("%.2f m mannequin, %s: width %.3f, length %.3f, hem %.3f\n", md.height, test::kindName(kind), f.width, f.length,
                         f.hemWidth);
             // Round the body at the collision thickness, plus ease.
             const double round = 2.0 * M_PI * d.thickness + d.ease;
@@ -130,10 +120,10 @@ TEST(GarmentFit, GivenSizesAreKeptOrRefusedWhenTooSmall) {
         d.kind = t.kind;
         d.width = t.width;
         auto fit = fitOn(*world, body, d);
-        ASSERT_FALSE(fit.isOk()) << kindName(t.kind) << " of " << t.width << " m fits a " << l.waistGirth << " m waist";
+        ASSERT_FALSE(fit.isOk()) << test::kindName(t.kind) << " of " << t.width << " m fits a " << l.waistGirth << " m waist";
         const std::string& m = fit.status().message();
         EXPECT_NE(m.find(t.why), std::string::npos) << m;
-        EXPECT_NE(m.find(kindName(t.kind)), std::string::npos) << "names the garment: " << m;
+        EXPECT_NE(m.find(test::kindName(t.kind)), std::string::npos) << "names the garment: " << m;
         std::printf("%s\n", m.c_str());
     }
     // A straight skirt whose hem cannot pass the hips.
@@ -209,20 +199,20 @@ TEST(GarmentFit, AttachmentsBindOnlyToTheTorsosSkin) {
         std::vector<std::string> partOf(body.mesh().vertexCount());
         for (const BodyPart& part : body.mannequin.parts)
             for (uint32_t v = part.firstVertex; v < part.firstVertex + part.vertexCount; ++v) partOf[v] = part.name;
-        for (GarmentKind kind : kKinds) {
+        for (GarmentKind kind : test::kGarmentKinds) {
             ClothAssetDesc d;
             d.kind = kind;
             auto fit = detail::fitGarment(d, body);
             ASSERT_TRUE(fit.isOk()) << fit.status().message();
             const std::vector<Vec3> points = attachmentPoints(fit.value());
-            EXPECT_GE(points.size(), 3u) << kindName(kind);
+            EXPECT_GE(points.size(), 3u) << test::kindName(kind);
             auto binding = detail::bindToBody(body, points, {});
             ASSERT_TRUE(binding.isOk()) << binding.status().message();
             for (std::size_t a = 0; a < points.size(); ++a) {
                 const auto& t = body.anchorMesh.triangles[binding.value().vertices()[a].triangle];
                 for (uint32_t v : t)
                     EXPECT_TRUE(partOf[v] == "torso" || partOf[v] == "neck")
-                        << kindName(kind) << " attachment " << a << " is bound to the " << partOf[v];
+                        << test::kindName(kind) << " attachment " << a << " is bound to the " << partOf[v];
             }
         }
     }
@@ -250,7 +240,7 @@ TEST(GarmentFit, AttachmentsOnSharedHumanoidsBindToTorsoSkinOnly) {
     for (const auto& [name, b] : sharedHumanoidBodies()) {
         ASSERT_TRUE(b.fitStatus.isOk()) << name << ": " << b.fitStatus.message();
         const double h = b.measurements.height;
-        for (GarmentKind kind : kKinds) {
+        for (GarmentKind kind : test::kGarmentKinds) {
             ClothAssetDesc d;
             d.kind = kind;
             auto fit = detail::fitGarment(d, b);
@@ -267,21 +257,21 @@ TEST(GarmentFit, AttachmentsOnSharedHumanoidsBindToTorsoSkinOnly) {
                     const BodyRegion g = b.regions.joints[bound.joints[std::size_t(k)]];
                     if (g == BodyRegion::Torso || g == BodyRegion::Neck) torsoWeight += bound.weights[std::size_t(k)];
                 }
-                EXPECT_GT(torsoWeight, 0.9 - 1e-9) << name << " " << kindName(kind) << " attachment " << a;
+                EXPECT_GT(torsoWeight, 0.9 - 1e-9) << name << " " << test::kindName(kind) << " attachment " << a;
                 for (std::size_t v = 0; v < b.fitPositions.size(); ++v)
                     if (isArm(b.regions.vertices[v])) nearestArm = std::min(nearestArm, (b.fitPositions[v] - points[a]).norm());
                 highest = std::max(highest, points[a].y());
             }
             std::printf("%s %s: %zu attachments, nearest arm skin %.3f m (%.1f %% of the height), highest %.3f m (neck at %.3f)\n",
-                        name.c_str(), kindName(kind), points.size(), nearestArm, 100.0 * nearestArm / h, highest,
+                        name.c_str(), test::kindName(kind), points.size(), nearestArm, 100.0 * nearestArm / h, highest,
                         b.measurements.neck.height);
             // Over the shoulders the top line keeps clear of the arms (a swinging arm would tear
             // it); a waistband may pass a hanging arm, it is bound to the torso's skin.
             if (kind == GarmentKind::Cape || kind == GarmentKind::Poncho) {
-                EXPECT_GE(nearestArm, 0.02 * h - 1e-9) << name << " " << kindName(kind);
+                EXPECT_GE(nearestArm, 0.02 * h - 1e-9) << name << " " << test::kindName(kind);
             }
-            EXPECT_GE(points.size(), 3u) << name << " " << kindName(kind);
-            EXPECT_LT(highest, b.measurements.neck.height + 0.02 * h) << name << " " << kindName(kind) << ": nothing on the head";
+            EXPECT_GE(points.size(), 3u) << name << " " << test::kindName(kind);
+            EXPECT_LT(highest, b.measurements.neck.height + 0.02 * h) << name << " " << test::kindName(kind) << ": nothing on the head";
         }
     }
 }
@@ -462,7 +452,7 @@ TEST(GarmentFit, PlacedGarmentsStartWithinTheStrainLimit) {
     bodies.emplace(bodies.begin(), "mannequin", detail::makeMannequinBody({}).value());
     const double limit = 0.35;
     for (const auto& [name, body] : bodies) {
-        for (GarmentKind kind : kKinds) {
+        for (GarmentKind kind : test::kGarmentKinds) {
             for (GarmentCut cut : {GarmentCut::Straight, GarmentCut::ALine, GarmentCut::Circle}) {
                 ClothAssetDesc d;
                 d.kind = kind;
@@ -471,9 +461,9 @@ TEST(GarmentFit, PlacedGarmentsStartWithinTheStrainLimit) {
                 if (!cooked.isOk()) continue;  // a cut that cannot fit this body says so (tested above)
                 double worst = 0.0;
                 for (const detail::CookedLevel& level : cooked.value().levels) worst = std::max(worst, placedStrain(level));
-                std::printf("[ placed ] %s %s cut %d: largest edge strain %.1f %%\n", name.c_str(), kindName(kind), int(cut),
+                std::printf("[ placed ] %s %s cut %d: largest edge strain %.1f %%\n", name.c_str(), test::kindName(kind), int(cut),
                             100.0 * worst);
-                EXPECT_LE(worst, limit) << name << " " << kindName(kind) << " cut " << int(cut);
+                EXPECT_LE(worst, limit) << name << " " << test::kindName(kind) << " cut " << int(cut);
             }
         }
     }

@@ -41,22 +41,12 @@ struct Case {
     double rate;       ///< [Hz]
 };
 
-const char* kindName(GarmentKind k) {
-    switch (k) {
-    case GarmentKind::Cape: return "cape";
-    case GarmentKind::Skirt: return "skirt";
-    case GarmentKind::Dress: return "dress";
-    case GarmentKind::Poncho: return "poncho";
-    }
-    return "?";
-}
-
 void PrintTo(const Case& c, std::ostream* os) {
-    *os << kindName(c.kind) << " on " << c.body << " " << (c.clip[0] ? c.clip : "clip 0") << " " << c.rate << " Hz";
+    *os << test::kindName(c.kind) << " on " << c.body << " " << (c.clip[0] ? c.clip : "clip 0") << " " << c.rate << " Hz";
 }
 
 std::string caseName(const ::testing::TestParamInfo<Case>& info) {
-    std::string name = std::string(kindName(info.param.kind)) + "_" + info.param.body + "_" +
+    std::string name = std::string(test::kindName(info.param.kind)) + "_" + info.param.body + "_" +
                        (info.param.clip[0] ? info.param.clip : "clip0") + "_" + std::to_string(int(info.param.rate)) + "Hz";
     for (char& ch : name)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
@@ -135,7 +125,7 @@ void run(const Case& c, Outcome& out) {
     }
     std::printf("%s on %s, %s at %.0f Hz: max strain %.1f %%, attachment error %.3f mm, %d of %d vertex checks inside, "
                 "deepest %.2f mm (thickness %.1f mm)\n",
-                kindName(c.kind), c.body, c.clip[0] ? c.clip : "clip 0", c.rate, 100.0 * out.worstStrain,
+                test::kindName(c.kind), c.body, c.clip[0] ? c.clip : "clip 0", c.rate, 100.0 * out.worstStrain,
                 1e3 * out.worstAttachment, out.inside, out.checked, 1e3 * out.deepest, 1e3 * out.thickness);
     EXPECT_LE(out.worstAttachment, 1e-3) << "attachments follow their skinned targets";
 }

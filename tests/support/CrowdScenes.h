@@ -8,6 +8,21 @@
 
 namespace cc::test {
 
+/// A garment kind's name for test output.
+inline const char* kindName(GarmentKind kind) {
+    switch (kind) {
+    case GarmentKind::Cape: return "cape";
+    case GarmentKind::Skirt: return "skirt";
+    case GarmentKind::Dress: return "dress";
+    case GarmentKind::Poncho: return "poncho";
+    }
+    return "?";
+}
+
+/// Every garment kind.
+inline constexpr GarmentKind kGarmentKinds[] = {GarmentKind::Cape, GarmentKind::Skirt, GarmentKind::Dress,
+                                                GarmentKind::Poncho};
+
 /// Column-major view-projection of a 60-degree camera at `eye` looking at `target`.
 inline CameraDesc cameraLookingAt(const Vec3& eye, const Vec3& target, double width = 1280, double height = 720) {
     const Mat4 vp = perspective(60.0 * M_PI / 180.0, width / height, 0.1, 500.0) * lookAt(eye, target);
