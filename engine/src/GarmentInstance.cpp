@@ -83,13 +83,8 @@ Result<std::unique_ptr<GarmentInstance>> GarmentInstance::create(std::shared_ptr
         vertices = std::max(vertices, level.active.simToVertex.size());
         attachedNodes = std::max<std::size_t>(attachedNodes, level.cloth->attachedNodeCount());
     }
-    for (auto* buffer : {&g->mPositions, &g->mVelocities, &g->mSwapPositions, &g->mSwapVelocities, &g->mStepStart,
-                         &g->mSettleVelocities, &g->mSettleNormals, &g->mRayOrigins, &g->mRayDirections})
+    for (auto* buffer : {&g->mPositions, &g->mVelocities, &g->mSwapPositions, &g->mSwapVelocities, &g->mStepStart})
         buffer->reserve(vertices);
-    g->mRayVertices.reserve(vertices);
-    g->mRayTraces.reserve(vertices);
-    g->mSideTraces.reserve(vertices);
-    g->mSettleDepths.reserve(vertices);
     g->mContacts.reserve(vertices);
     g->mNodeTargets.reserve(attachedNodes);
     for (auto* buffer : {&g->mLocalRender, &g->mNormals, &g->mMorph}) buffer->reserve(g->mAsset->renderVertexCount);
@@ -183,8 +178,8 @@ collision::BodyContactSettings GarmentInstance::contactSettings() const {
     return settings;
 }
 
-Status GarmentInstance::prepare(CharacterInstance& character, collision::BodyContactStage& stage,
-                                GarmentUpdateReport& outReport) {
+Status GarmentInstance::prepare(CharacterInstance& character, UpdateScratch& scratch, GarmentUpdateReport& outReport) {
+    collision::BodyContactStage& stage = scratch.contacts;
     outReport = {};
     if (Status s = boundTargets(mAttachments, character, mTargets); !s) return s;
     const CookedLevel& level = mAsset->levels[mLevel];
@@ -194,7 +189,7 @@ Status GarmentInstance::prepare(CharacterInstance& character, collision::BodyCon
     mSettled = false;
     // (A new garment starts from its fitted placement, which the fit keeps outside the body.)
     if (context.collider && !context.proxies && mSteppedLevel >= 0 && (!mSteppedOnMesh || mLevel > mSteppedLevel)) {
-        if (Status s = settleOntoMesh(character, stage, outReport); !s) return s;
+        if (Status s = settleOntoMesh(character, scratch, outReport); !s) return s;
     }
     mStepStart = mPositions;
     // Contact planes from the still cloth against the body's end pose, once for the whole update
@@ -305,7 +300,8 @@ cloth::SubstepSettings GarmentInstance::solverSettings(int substeps, int iterati
 }
 
 Status GarmentInstance::finish(CharacterInstance& character, const cloth::SubstepSettings& strainSettings,
-                               collision::BodyContactStage& stage, GarmentUpdateReport& inOutReport) {
+                               UpdateScratch& scratch, GarmentUpdateReport& inOutReport) {
+    collision::BodyContactStage& stage = scratch.contacts;
     const auto start = Clock::now();
     const CookedLevel& level = mAsset->levels[mLevel];
     // Against capsules (a garment small on screen) the update's contact planes are the whole
@@ -374,7 +370,7 @@ Status GarmentInstance::finish(CharacterInstance& character, const cloth::Subste
         inOutReport.selfCollisionMs += msSince(selfStart);
     }
     if (mSettled) {
-        if (Status s = restartIfTangled(character, stage, inOutReport); !s) return s;
+        if (Status s = restartIfTangled(character, scratch, inOutReport); !s) return s;
     }
     if ((context.collider && !context.proxies) || context.selfCollision) weldCopies(level.active, mPositions, mVelocities);
     inOutReport.collisionMs += msSince(start);

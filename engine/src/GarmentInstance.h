@@ -41,6 +41,22 @@ struct GarmentUpdateContext {
     double strainLimit = 0.1;  ///< [-] the World's, for the settle onto the body mesh (prepare())
 };
 
+/// What a garment's update borrows for the length of one call (the World pools them, about one per
+/// thread): the body contacts' scratch, and the settle's (MeshSettle.cpp) for the rare update that
+/// brings a state onto the body mesh. Kept with each garment, the settle's alone took 70-100 KB per
+/// garment for a few updates in its life.
+struct UpdateScratch {
+    collision::BodyContactStage contacts;
+    std::vector<Vec3> velocities;          ///< kept across the settle's moves
+    std::vector<Vec3> sides;               ///< per vertex: the side of the body it is on
+    std::vector<double> sideDepths;        ///< per vertex: the depth of the contact its side is from
+    std::vector<Vec3> directions;          ///< per vertex: its ray out of the body
+    std::vector<collision::RayTrace> traces;      ///< and what it met
+    std::vector<collision::RayTrace> sideTraces;  ///< the rays of the vertices inside, along their sides
+    std::vector<uint32_t> vertices;        ///< the vertices a settle round moves out of the body,
+    std::vector<Vec3> origins;             ///< and where they are
+};
+
 /// What the last update did besides the solve.
 struct GarmentUpdateReport {
     uint32_t contacts = 0;         ///< contact planes of the solve, the body's and self-contacts'
@@ -98,7 +114,7 @@ public:
     bool switchLevel(int level, bool fade = true);
     /// Attachment targets and contact planes for an update against the character's body as it is
     /// this frame (context set).
-    Status prepare(CharacterInstance& character, collision::BodyContactStage& stage, GarmentUpdateReport& outReport);
+    Status prepare(CharacterInstance& character, UpdateScratch& scratch, GarmentUpdateReport& outReport);
     /// The solver's view of this garment for the update prepare() made ready.
     cloth::SubstepLane lane();
     /// The substep solver's settings for this garment's asset at the given effort: the World's
@@ -107,8 +123,8 @@ public:
     /// After the solve: self-collision if asked, then (against the body mesh) the body's swept and
     /// proximity corrections and the strain limit of `strainSettings` around the vertices they
     /// pushed.
-    Status finish(CharacterInstance& character, const cloth::SubstepSettings& strainSettings,
-                  collision::BodyContactStage& stage, GarmentUpdateReport& inOutReport);
+    Status finish(CharacterInstance& character, const cloth::SubstepSettings& strainSettings, UpdateScratch& scratch,
+                  GarmentUpdateReport& inOutReport);
     /// Brings the world-space render mesh (positions and normals as floats) up to date: the shape
     /// in the character's frame is rebuilt only if the state changed (or a level switch is still
     /// fading), the world placement only if that or the character moved. Render meshes are built
@@ -149,23 +165,21 @@ private:
     /// the mesh there, then is refined and settled again, each vertex inside leaving the body on
     /// its neighbours' side; a state still tangled with the body starts again from its placement
     /// (outReport.restarted). MeshSettle.cpp.
-    Status settleOntoMesh(CharacterInstance& character, collision::BodyContactStage& stage,
-                          GarmentUpdateReport& outReport);
+    Status settleOntoMesh(CharacterInstance& character, UpdateScratch& scratch, GarmentUpdateReport& outReport);
     /// After the update that followed a settle: a garment the solve stretched to twice its length
     /// was tangled with the body in a way the settle cannot see (a coarse hem between the legs,
     /// outside the body but through it), and starts again from its placement (inOutReport.restarted).
-    Status restartIfTangled(CharacterInstance& character, collision::BodyContactStage& stage,
-                            GarmentUpdateReport& inOutReport);
+    Status restartIfTangled(CharacterInstance& character, UpdateScratch& scratch, GarmentUpdateReport& inOutReport);
     /// The strain past which a settled garment counts as tangled with the body.
     double tangledStrain() const;
     /// One level of the settle: the vertices inside the body go out (along their side where it has
     /// an exit, else to the nearest surface), the strain limit after each round, velocities kept;
     /// outStillInside counts what the last round left inside.
-    Status settleLevel(collision::BodyContactStage& stage, uint32_t& outStillInside);
-    /// mSettleNormals: per vertex, the side of the body it is on (outside ones near the body, the
+    Status settleLevel(UpdateScratch& scratch, uint32_t& outStillInside);
+    /// scratch.sides: per vertex, the side of the body it is on (outside ones near the body, the
     /// nearest part's outward normal; inside ones, their neighbours'); zero where unknown. Reads
-    /// mRayTraces' inside counts.
-    Status sideNormals(collision::BodyContactStage& stage);
+    /// scratch.traces' inside counts.
+    Status sideNormals(UpdateScratch& scratch);
     /// mRestCarry for the character's body (create()).
     Status bindRestPlacement(const CharacterInstance& character);
     /// The fitted placement, carried by the torso's skin to the character's pose, at the current
@@ -193,14 +207,6 @@ private:
     bool mSettled = false;        ///< this update's prepare() settled the state onto the mesh
     std::vector<Vec3> mPositions, mVelocities;   ///< [m], [m/s] per simulation vertex, character frame
     std::vector<Vec3> mSwapPositions, mSwapVelocities;  ///< level-switch scratch
-    std::vector<Vec3> mSettleVelocities;    ///< velocities kept across settleOntoMesh's moves
-    std::vector<Vec3> mSettleNormals;       ///< per vertex: the side of the body it is on (settle)
-    std::vector<double> mSettleDepths;      ///< per vertex: the depth of the contact its side is from
-    std::vector<Vec3> mRayDirections;       ///< per vertex: the settle's ray out of the body
-    std::vector<collision::RayTrace> mRayTraces;  ///< and what it met
-    std::vector<collision::RayTrace> mSideTraces; ///< the rays of the vertices inside, along their sides
-    std::vector<uint32_t> mRayVertices;     ///< vertices the settle moves out of the body,
-    std::vector<Vec3> mRayOrigins;          ///< and where they are
     SkinBinding mAttachments;               ///< the asset's attachment line, bound to the body
     SkinBinding mRestCarry;                 ///< level 0's fitted placement, bound to the torso's skin
     std::vector<Vec3> mTargets;             ///< per attachment slot (character space)

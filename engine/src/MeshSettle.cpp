@@ -34,7 +34,7 @@ double GarmentInstance::tangledStrain() const {
     return kEntangledStrainFactor * std::max(context.strainLimit, kEntangledStrainFloor);
 }
 
-Status GarmentInstance::settleOntoMesh(CharacterInstance& character, collision::BodyContactStage& stage,
+Status GarmentInstance::settleOntoMesh(CharacterInstance& character, UpdateScratch& scratch,
                                        GarmentUpdateReport& outReport) {
     // The state goes back to the level it was stepped at (exactly: it was refined from there) and
     // is settled out of the mesh (near the skin: its vertices were kept outside the capsules), then
@@ -45,11 +45,11 @@ Status GarmentInstance::settleOntoMesh(CharacterInstance& character, collision::
     while (mLevel > std::min(target, mSteppedLevel)) transferOneLevel(-1);
     uint32_t inside = 0;
     if (!mSteppedOnMesh) {
-        if (Status s = settleLevel(stage, inside); !s) return s;
+        if (Status s = settleLevel(scratch, inside); !s) return s;
     }
     if (mLevel < target) {
         while (mLevel < target) transferOneLevel(1);
-        if (Status s = settleLevel(stage, inside); !s) return s;
+        if (Status s = settleLevel(scratch, inside); !s) return s;
     }
     // A coarse state can be tangled with the body beyond what a settle undoes (a coarse cape's hem
     // between the legs, a chord across a limb): what the pushes take out, the strain limit pulls
@@ -60,7 +60,7 @@ Status GarmentInstance::settleOntoMesh(CharacterInstance& character, collision::
     // its limit (tests/engine/CameraCutTest.cpp).
     if (double(inside) > kTangledShare * double(mPositions.size()) || maxEdgeStrain() > tangledStrain()) {
         if (Status s = placeAtRest(character); !s) return s;
-        if (Status s = settleLevel(stage, inside); !s) return s;
+        if (Status s = settleLevel(scratch, inside); !s) return s;
         outReport.restarted = true;
     }
     mSettled = !outReport.restarted;
@@ -68,18 +68,18 @@ Status GarmentInstance::settleOntoMesh(CharacterInstance& character, collision::
     return Status::ok();
 }
 
-Status GarmentInstance::restartIfTangled(CharacterInstance& character, collision::BodyContactStage& stage,
+Status GarmentInstance::restartIfTangled(CharacterInstance& character, UpdateScratch& scratch,
                                          GarmentUpdateReport& inOutReport) {
     mSettled = false;
     if (maxEdgeStrain() <= std::max(kSolvedTangleStrain, tangledStrain())) return Status::ok();
     if (Status s = placeAtRest(character); !s) return s;
     uint32_t inside = 0;
-    if (Status s = settleLevel(stage, inside); !s) return s;
+    if (Status s = settleLevel(scratch, inside); !s) return s;
     inOutReport.restarted = true;
     return Status::ok();
 }
 
-Status GarmentInstance::sideNormals(collision::BodyContactStage& stage) {
+Status GarmentInstance::sideNormals(UpdateScratch& scratch) {
     // An outside vertex near the body knows its side: the outward normal of the part it is nearest
     // to. One inside does not (its nearest surface may be a limb's far side), so it takes its
     // neighbours' side, passed from vertex to vertex along the cloth's edges into the body.
@@ -87,13 +87,13 @@ Status GarmentInstance::sideNormals(collision::BodyContactStage& stage) {
     settings.continuous = false;
     settings.query.margin = kSideReach;
     const collision::Collider* colliders[1] = {context.collider};
-    if (Status s = stage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
+    if (Status s = scratch.contacts.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
     const std::size_t n = mPositions.size();
-    mSettleNormals.assign(n, Vec3::Zero());
-    mSettleDepths.assign(n, -1e30);
+    scratch.sides.assign(n, Vec3::Zero());
+    scratch.sideDepths.assign(n, -1e30);
     for (const Contact& c : mContacts) {
-        if (mRayTraces[c.vertex].partsInside > 0 || c.depth <= mSettleDepths[c.vertex]) continue;
-        mSettleDepths[c.vertex] = c.depth, mSettleNormals[c.vertex] = c.normal;
+        if (scratch.traces[c.vertex].partsInside > 0 || c.depth <= scratch.sideDepths[c.vertex]) continue;
+        scratch.sideDepths[c.vertex] = c.depth, scratch.sides[c.vertex] = c.normal;
     }
     const auto& triangles = mAsset->levels[mLevel].active.mesh.triangles;
     for (int sweep = 0; sweep < kSideSweeps; ++sweep) {
@@ -101,12 +101,12 @@ Status GarmentInstance::sideNormals(collision::BodyContactStage& stage) {
         bool open = false;
         for (const auto& t : triangles)
             for (int k = 0; k < 3; ++k) {
-                mSwapPositions[t[k]] += mSettleNormals[t[(k + 1) % 3]] + mSettleNormals[t[(k + 2) % 3]];
+                mSwapPositions[t[k]] += scratch.sides[t[(k + 1) % 3]] + scratch.sides[t[(k + 2) % 3]];
             }
         for (std::size_t v = 0; v < n; ++v) {
-            if (mRayTraces[v].partsInside <= 0 || mSettleNormals[v] != Vec3::Zero()) continue;
+            if (scratch.traces[v].partsInside <= 0 || scratch.sides[v] != Vec3::Zero()) continue;
             const double length = mSwapPositions[v].norm();
-            if (length > 0.0) mSettleNormals[v] = mSwapPositions[v] / length;
+            if (length > 0.0) scratch.sides[v] = mSwapPositions[v] / length;
             else open = true;
         }
         if (!open) break;
@@ -114,7 +114,7 @@ Status GarmentInstance::sideNormals(collision::BodyContactStage& stage) {
     return Status::ok();
 }
 
-Status GarmentInstance::settleLevel(collision::BodyContactStage& stage, uint32_t& outStillInside) {
+Status GarmentInstance::settleLevel(UpdateScratch& scratch, uint32_t& outStillInside) {
     // Rays tell what is inside the body however deep (a closed part's inside is exact). A vertex
     // inside leaves along its side, where that ray leaves the body; one with no side (or no exit)
     // goes to its nearest surface (a proximity query of just those, as far as they may be deep).
@@ -129,48 +129,48 @@ Status GarmentInstance::settleLevel(collision::BodyContactStage& stage, uint32_t
     cloth::ContactResponse response;
     response.thickness = mAsset->desc.thickness;
     const cloth::SubstepSettings limit = solverSettings(1, 1, context.strainLimit);
-    mSettleVelocities.assign(mVelocities.begin(), mVelocities.end());
+    scratch.velocities.assign(mVelocities.begin(), mVelocities.end());
     for (int round = 0;; ++round) {
-        mRayDirections.assign(n, kProbe);
-        mRayTraces.resize(n);
-        if (Status s = context.collider->traceRays(mPositions, mRayDirections, mRayTraces); !s) return s;
+        scratch.directions.assign(n, kProbe);
+        scratch.traces.resize(n);
+        if (Status s = context.collider->traceRays(mPositions, scratch.directions, scratch.traces); !s) return s;
         outStillInside = 0;
         for (std::size_t v = 0; v < n; ++v) {
-            if (cloth.nodeOfVertex()[v] >= cloth.freeNodeCount()) mRayTraces[v].partsInside = 0;  // driven
-            outStillInside += mRayTraces[v].partsInside > 0;
+            if (cloth.nodeOfVertex()[v] >= cloth.freeNodeCount()) scratch.traces[v].partsInside = 0;  // driven
+            outStillInside += scratch.traces[v].partsInside > 0;
         }
         if (outStillInside == 0 || round == kSettleRounds) break;
-        if (Status s = sideNormals(stage); !s) return s;
+        if (Status s = sideNormals(scratch); !s) return s;
         // Out along each side: the rays of the vertices inside, in place of the probes.
-        mRayVertices.clear();
-        mRayOrigins.clear();
+        scratch.vertices.clear();
+        scratch.origins.clear();
         for (std::size_t v = 0; v < n; ++v) {
-            if (mRayTraces[v].partsInside <= 0 || mSettleNormals[v] == Vec3::Zero()) continue;
-            mRayVertices.push_back(uint32_t(v));
-            mRayOrigins.push_back(mPositions[v]);
+            if (scratch.traces[v].partsInside <= 0 || scratch.sides[v] == Vec3::Zero()) continue;
+            scratch.vertices.push_back(uint32_t(v));
+            scratch.origins.push_back(mPositions[v]);
         }
-        mRayDirections.clear();
-        for (uint32_t v : mRayVertices) mRayDirections.push_back(mSettleNormals[v]);
-        mSideTraces.resize(mRayVertices.size());
-        if (Status s = context.collider->traceRays(mRayOrigins, mRayDirections, mSideTraces); !s) return s;
+        scratch.directions.clear();
+        for (uint32_t v : scratch.vertices) scratch.directions.push_back(scratch.sides[v]);
+        scratch.sideTraces.resize(scratch.vertices.size());
+        if (Status s = context.collider->traceRays(scratch.origins, scratch.directions, scratch.sideTraces); !s) return s;
         mMoved.assign(n, 0);
         uint32_t moved = 0;
-        for (std::size_t k = 0; k < mRayVertices.size(); ++k) {
-            if (mSideTraces[k].firstExit < 0.0) continue;
-            mPositions[mRayVertices[k]] += (mSideTraces[k].firstExit + response.thickness) * mRayDirections[k];
-            mMoved[mRayVertices[k]] = 1, ++moved;
+        for (std::size_t k = 0; k < scratch.vertices.size(); ++k) {
+            if (scratch.sideTraces[k].firstExit < 0.0) continue;
+            mPositions[scratch.vertices[k]] += (scratch.sideTraces[k].firstExit + response.thickness) * scratch.directions[k];
+            mMoved[scratch.vertices[k]] = 1, ++moved;
         }
         // The rest to their nearest surface.
-        mRayVertices.clear();
-        mRayOrigins.clear();
+        scratch.vertices.clear();
+        scratch.origins.clear();
         for (std::size_t v = 0; v < n; ++v) {
-            if (mRayTraces[v].partsInside <= 0 || mMoved[v]) continue;
-            mRayVertices.push_back(uint32_t(v));
-            mRayOrigins.push_back(mPositions[v]);
+            if (scratch.traces[v].partsInside <= 0 || mMoved[v]) continue;
+            scratch.vertices.push_back(uint32_t(v));
+            scratch.origins.push_back(mPositions[v]);
         }
-        if (!mRayVertices.empty()) {
-            if (Status s = stage.gather(colliders, mRayOrigins, mRayOrigins, settings, mContacts); !s) return s;
-            for (Contact& c : mContacts) c.vertex = mRayVertices[c.vertex];  // still sorted by vertex
+        if (!scratch.vertices.empty()) {
+            if (Status s = scratch.contacts.gather(colliders, scratch.origins, scratch.origins, settings, mContacts); !s) return s;
+            for (Contact& c : mContacts) c.vertex = scratch.vertices[c.vertex];  // still sorted by vertex
             uint32_t pushed = 0;
             if (Status s = cloth::resolveContacts(mContacts, response, cloth, mPositions, mVelocities, &pushed, mMoved); !s)
                 return s;
@@ -181,7 +181,7 @@ Status GarmentInstance::settleLevel(collision::BodyContactStage& stage, uint32_t
             if (Status s = limitAroundMoved(limit); !s) return s;
         }
     }
-    mVelocities.assign(mSettleVelocities.begin(), mSettleVelocities.end());
+    mVelocities.assign(scratch.velocities.begin(), scratch.velocities.end());
     return Status::ok();
 }
 

@@ -134,14 +134,14 @@ bool ShadowCheck::update(GarmentInstance& g, Follow& scratch, double dt, int sub
     if (!factor.isOk()) return false;
 
     GarmentUpdateReport report;
-    if (!g.prepare(character, scratch.contactStage, report)) return false;
+    if (!g.prepare(character, scratch.update, report)) return false;
     const cloth::SubstepLane lane = g.lane();
     cloth::SubstepLaneReport laneReport;
     const Status solved = cloth::stepSubsteps(*g.cookedLevel().cloth, *factor.value(), dt, settings,
                                               Span<const cloth::SubstepLane>(&lane, 1), scratch.workspace,
                                               Span<cloth::SubstepLaneReport>(&laneReport, 1));
     if (!solved || !laneReport.status) return false;
-    if (!g.finish(character, settings, scratch.contactStage, report)) return false;
+    if (!g.finish(character, settings, scratch.update, report)) return false;
     g.lastUpdateTime = frame.time;
     return true;
 }

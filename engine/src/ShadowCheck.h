@@ -87,13 +87,13 @@ private:
         bool capsulesMade = false;
         double capsulesTime = 0.0;
         cloth::SubstepWorkspace workspace;         ///< scratch of the updates below
-        collision::BodyContactStage contactStage;
+        UpdateScratch update;
     };
     void drop(Follow& f);
     bool startFollowing(Follow& f, const GarmentRef& item, const ShadowFrame& frame);
     bool openWindow(Follow& f, const GarmentRef& item);
     /// One update of `g` over `dt` at its level, `substeps` x `iterations`, against `collider`, with
-    /// `scratch`'s workspace and contact stage.
+    /// `scratch`'s workspace and update scratch.
     bool update(GarmentInstance& g, Follow& scratch, double dt, int substeps, int iterations,
                 const collision::Collider* collider, bool continuous, CharacterInstance& character,
                 const ShadowFrame& frame);

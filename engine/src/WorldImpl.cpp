@@ -391,7 +391,7 @@ void WorldImpl::prepareGarment(const GarmentRef& item) {
         if (collider.isOk()) g.context.collider = collider.value();
     }
     GarmentUpdateReport report;
-    if (status) status = g.prepare(*item.character, *mContactStages.borrow(), report);
+    if (status) status = g.prepare(*item.character, *mUpdateScratch.borrow(), report);
     stats.contacts = report.contacts;
     stats.restarted = report.restarted;
     stats.collisionMs = report.collisionMs;
@@ -417,7 +417,7 @@ void WorldImpl::simulateBatch(Batch& batch) {
         GarmentUpdateReport report;
         report.collisionMs = g.stats.collisionMs;
         report.selfCollisionMs = g.stats.selfCollisionMs;
-        if (result) result = g.finish(*item.character, batch.settings, *mContactStages.borrow(), report);
+        if (result) result = g.finish(*item.character, batch.settings, *mUpdateScratch.borrow(), report);
         if (!result) fail(g, result);
         g.stats.collisionMs = report.collisionMs;
         g.stats.selfCollisionMs = report.selfCollisionMs;

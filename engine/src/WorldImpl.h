@@ -162,7 +162,7 @@ private:
     std::vector<BatchKey> mBatchKeys;
     std::size_t mBatchCount = 0;
     ScratchPool<cloth::SubstepWorkspace> mWorkspaces;       ///< the batches' solver scratch, per solve
-    ScratchPool<collision::BodyContactStage> mContactStages; ///< the garments' contact scratch, per call
+    ScratchPool<UpdateScratch> mUpdateScratch;  ///< the garments' contact and settle scratch, per call
     FactorCache mFactors;
 };
 

@@ -61,8 +61,8 @@ Update throwCapeAtBody(double lookahead, double speed) {
 
     Update out;
     GarmentUpdateReport report;
-    collision::BodyContactStage stage;
-    EXPECT_TRUE(g.prepare(character, stage, report).isOk());
+    UpdateScratch scratch;
+    EXPECT_TRUE(g.prepare(character, scratch, report).isOk());
     out.planes = report.contacts;
     cloth::SubstepSettings settings;
     settings.strainLimit = 0.1;
@@ -78,7 +78,7 @@ Update throwCapeAtBody(double lookahead, double speed) {
                     .isOk());
     EXPECT_TRUE(laneReport.status.isOk()) << laneReport.status.message();
     const std::vector<Vec3> solved(lane.positions.begin(), lane.positions.end());
-    EXPECT_TRUE(g.finish(character, settings, stage, report).isOk());
+    EXPECT_TRUE(g.finish(character, settings, scratch, report).isOk());
     lane = g.lane();
     for (std::size_t v = 0; v < solved.size(); ++v) {
         const double push = (lane.positions[v] - solved[v]).norm();
