@@ -122,7 +122,7 @@ public:
     cloth::SubstepSettings solverSettings(int substeps, int iterations, double strainLimit) const;
     /// After the solve: self-collision if asked, then (against the body mesh) the body's swept and
     /// proximity corrections and the strain limit of `strainSettings` around the vertices they
-    /// pushed.
+    /// pushed; after a settle, the restart of a garment the solve found tangled.
     Status finish(CharacterInstance& character, const cloth::SubstepSettings& strainSettings, UpdateScratch& scratch,
                   GarmentUpdateReport& inOutReport);
     /// Brings the world-space render mesh (positions and normals as floats) up to date: the shape
@@ -160,8 +160,8 @@ private:
     Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
     /// One level finer (+1) or coarser (-1) through the cooked transfers, positions and velocities.
     void transferOneLevel(int direction);
-    /// Before an update against the body mesh when the last update was not (capsules, asleep, new)
-    /// or was at a coarser level: the state goes back to the level it was stepped at and out of
+    /// Before an update against the body mesh when the last update was not (capsules, asleep) or
+    /// was at a coarser level (not a new garment's first: its fitted placement is outside): the state goes back to the level it was stepped at and out of
     /// the mesh there, then is refined and settled again, each vertex inside leaving the body on
     /// its neighbours' side; a state still tangled with the body starts again from its placement
     /// (outReport.restarted). MeshSettle.cpp.
