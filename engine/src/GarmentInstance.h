@@ -50,6 +50,7 @@ struct UpdateScratch {
     std::vector<Vec3> velocities;          ///< kept across the settle's moves
     std::vector<Vec3> sides;               ///< per vertex: the side of the body it is on
     std::vector<double> sideDepths;        ///< per vertex: the depth of the contact its side is from
+    std::vector<Vec3> sideSums;            ///< per vertex: its neighbours' sides, summed (one sweep)
     std::vector<Vec3> directions;          ///< per vertex: its ray out of the body
     std::vector<collision::RayTrace> traces;      ///< and what it met
     std::vector<collision::RayTrace> sideTraces;  ///< the rays of the vertices inside, along their sides

@@ -97,16 +97,16 @@ Status GarmentInstance::sideNormals(UpdateScratch& scratch) {
     }
     const auto& triangles = mAsset->levels[mLevel].active.mesh.triangles;
     for (int sweep = 0; sweep < kSideSweeps; ++sweep) {
-        mSwapPositions.assign(n, Vec3::Zero());  // this sweep's sums of the neighbours' sides
+        scratch.sideSums.assign(n, Vec3::Zero());  // this sweep's sums of the neighbours' sides
         bool open = false;
         for (const auto& t : triangles)
             for (int k = 0; k < 3; ++k) {
-                mSwapPositions[t[k]] += scratch.sides[t[(k + 1) % 3]] + scratch.sides[t[(k + 2) % 3]];
+                scratch.sideSums[t[k]] += scratch.sides[t[(k + 1) % 3]] + scratch.sides[t[(k + 2) % 3]];
             }
         for (std::size_t v = 0; v < n; ++v) {
             if (scratch.traces[v].partsInside <= 0 || scratch.sides[v] != Vec3::Zero()) continue;
-            const double length = mSwapPositions[v].norm();
-            if (length > 0.0) scratch.sides[v] = mSwapPositions[v] / length;
+            const double length = scratch.sideSums[v].norm();
+            if (length > 0.0) scratch.sides[v] = scratch.sideSums[v] / length;
             else open = true;
         }
         if (!open) break;
