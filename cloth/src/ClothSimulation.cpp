@@ -82,7 +82,7 @@ Result<std::unique_ptr<ClothSimulation>> ClothSimulation::create(const ClothMesh
     for (const auto& [a, b] : topology.value().edges) {
         edges.push_back({a, b, (mesh.restPositions[b] - mesh.restPositions[a]).norm()});
     }
-    sim.value()->mEdges = StrainLimiter(static_cast<uint32_t>(mesh.vertexCount()), std::move(edges), mesh.restPositions);
+    sim.value()->mEdges = StrainLimiter(static_cast<uint32_t>(mesh.vertexCount()), edges, mesh.restPositions);
     return sim;
 }
 

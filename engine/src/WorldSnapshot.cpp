@@ -342,9 +342,10 @@ Result<std::vector<uint8_t>> WorldImpl::saveState() const {
     // Each cooked asset as the (design, body) slots it was fitted for, in one pass over the designs.
     std::vector<std::array<int64_t, 2>> origin(mAssets.slotCount(), {-1, -1});
     mDesigns.forEach([&](auto d, const DesignRecord& design) {
-        for (const auto& [fittedBody, id] : design.fitted)
+        // Not a structured binding: a lambda may not capture one before C++20 (clang refuses it).
+        for (const auto& fit : design.fitted)
             mBodies.forEach([&](auto b, const BodyRecord& body) {
-                if (body.body == fittedBody) origin[id.index1 - 1] = {int64_t(d.index1) - 1, int64_t(b.index1) - 1};
+                if (body.body == fit.first) origin[fit.second.index1 - 1] = {int64_t(d.index1) - 1, int64_t(b.index1) - 1};
             });
     });
     w.tag("ASET");

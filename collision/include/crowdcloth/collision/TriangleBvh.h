@@ -25,8 +25,10 @@ struct Aabb {
     /// Closed test: boxes that only touch overlap. Without short circuits: the broad phases ask it
     /// of neighbours about as often true as false, where a branch per axis is mispredicted.
     bool overlaps(const Aabb& o) const {
-        return (lo.x() <= o.hi.x()) & (o.lo.x() <= hi.x()) & (lo.y() <= o.hi.y()) & (o.lo.y() <= hi.y()) &
-               (lo.z() <= o.hi.z()) & (o.lo.z() <= hi.z());
+        const unsigned all = unsigned(lo.x() <= o.hi.x()) & unsigned(o.lo.x() <= hi.x()) &
+                             unsigned(lo.y() <= o.hi.y()) & unsigned(o.lo.y() <= hi.y()) &
+                             unsigned(lo.z() <= o.hi.z()) & unsigned(o.lo.z() <= hi.z());
+        return all != 0;
     }
 };
 
