@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstring>
 #include <type_traits>
 #include <utility>
 
@@ -83,7 +84,16 @@ namespace cc::detail {
 /// and back, arrays element by element.
 template <typename To, typename From>
 void copyField(To& to, const From& from) {
-    to = static_cast<To>(from);
+    if constexpr (std::is_enum_v<From>) {
+        // A C enum field may hold any int (C allows it); read as a C++ enum, a value outside its
+        // enumerators is undefined. Its bytes are read as the underlying integer instead, and the
+        // World's validation refuses what names no enumerator.
+        std::underlying_type_t<From> raw;
+        std::memcpy(&raw, &from, sizeof raw);
+        to = static_cast<To>(raw);
+    } else {
+        to = static_cast<To>(from);
+    }
 }
 template <typename To, typename From, std::size_t N>
 void copyField(To (&to)[N], const From (&from)[N]) {
@@ -96,10 +106,19 @@ struct AnyField {
     constexpr operator T() const noexcept;
 };
 
+// The probe braces a partial list on purpose: clang warns of the missing braces and fields anyway.
+#if defined(__clang__)
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wmissing-braces"
+#pragma clang diagnostic ignored "-Wmissing-field-initializers"
+#endif
 template <typename T, typename... Slots>
 constexpr auto acceptsSlots(int) -> decltype(T{std::declval<Slots>()...}, true) {
     return true;
 }
+#if defined(__clang__)
+#pragma clang diagnostic pop
+#endif
 template <typename T, typename... Slots>
 constexpr bool acceptsSlots(...) {
     return false;

@@ -12,46 +12,12 @@
 #include <vector>
 
 #include "crowdcloth/World.h"
+#include "FuzzInput.h"
 #include "SnapshotStream.h"  // engine/src: the header layout
 
 namespace {
 
-/// Reads typed values off the fuzzer's bytes; zeros once they run out.
-class Input {
-public:
-    Input(const uint8_t* data, std::size_t size) : mData(data), mSize(size) {}
-    bool empty() const { return mAt >= mSize; }
-    uint8_t byte() { return mAt < mSize ? mData[mAt++] : 0; }
-    uint32_t u32() {
-        uint32_t v = 0;
-        for (int i = 0; i < 4; ++i) v = v << 8 | byte();
-        return v;
-    }
-    /// Mostly plausible values, sometimes the awkward ones.
-    double real(double lo, double hi) {
-        switch (byte() % 16) {
-        case 0: return std::numeric_limits<double>::quiet_NaN();
-        case 1: return std::numeric_limits<double>::infinity();
-        case 2: return -std::numeric_limits<double>::infinity();
-        case 3: return 0.0;
-        case 4: return -1.0;
-        case 5: return 1e300;
-        case 6: return -hi;
-        case 7: {
-            double raw;
-            const uint64_t bits = uint64_t(u32()) << 32 | u32();
-            std::memcpy(&raw, &bits, sizeof raw);
-            return raw;
-        }
-        default: return lo + (hi - lo) * (u32() / 4294967295.0);
-        }
-    }
-
-private:
-    const uint8_t* mData;
-    std::size_t mSize;
-    std::size_t mAt = 0;
-};
+using cc::fuzz::Input;
 
 /// Sizes that keep one input fast: a fuzzer that cooks a 10^6-vertex garment learns nothing.
 bool affordable(const cc::ClothAssetDesc& d) {
