@@ -103,8 +103,9 @@ uint64_t runCrowd(int characters, int frames, ThreadPool* pool, double* msPerFra
         cc::CharacterDesc c;
         c.body = body;
         c.clipPhase = 0.37 * i - int(0.37 * i);
+        const int row = i / 6; // six characters to a row
         c.position[0] = 1.5 * (i % 6);
-        c.position[2] = -2.0 * (i / 6);
+        c.position[2] = -2.0 * row;
         walkers.push_back(value(world->addCharacter(c), "addCharacter"));
         // A forced level is simulated every frame, camera or not: every cape is a task each frame.
         cc::GarmentDesc garment;
@@ -115,7 +116,8 @@ uint64_t runCrowd(int characters, int frames, ThreadPool* pool, double* msPerFra
     const auto start = std::chrono::steady_clock::now();
     for (int frame = 1; frame <= frames; ++frame) {
         for (int i = 0; i < characters; ++i) {
-            const double position[3] = {1.5 * (i % 6), 0.0, -2.0 * (i / 6) + 1.3 * frame * dt};
+            const int row = i / 6;
+            const double position[3] = {1.5 * (i % 6), 0.0, -2.0 * row + 1.3 * frame * dt};
             check(world->setCharacterRoot(walkers[i], position, 0.0), "setCharacterRoot");
         }
         if (!pool) {

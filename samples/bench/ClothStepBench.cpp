@@ -64,7 +64,7 @@ void ourStep(benchmark::State& state, WarmScene& scene, OurSetup setup, int vert
     }
     ClothSimulation& sim = *acquired.value();
     int64_t cgIterations = 0, substeps = 0;
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         if (Status s = sim.step(kDt); !s) {
             state.SkipWithError(s.message().c_str());
             scene.reset();
@@ -89,7 +89,7 @@ void ourStep(benchmark::State& state, WarmScene& scene, OurSetup setup, int vert
 
 void bulletStep(benchmark::State& state, WarmScene& scene, int vertices) {
     BulletPatch& patch = scene.bullet(vertices);
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         if (patch.step() != 1) {
             state.SkipWithError("Bullet took other than one internal step");
             scene.reset();

@@ -45,6 +45,7 @@ std::vector<SparseInterpolation> gridProlongations(const RectanglePanel& panel) 
     const int n = int(panel.columns);
     const auto at = [&](int i, int j) { return j * (n + 1) + i; };
     std::vector<int> current;
+    current.reserve(std::size_t(n + 1) * std::size_t(n + 1));
     for (int v = 0; v < (n + 1) * (n + 1); ++v) current.push_back(v);
     std::vector<SparseInterpolation> levels;
     for (int s = 1; s < n; s *= 2) {

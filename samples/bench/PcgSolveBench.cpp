@@ -63,7 +63,7 @@ void pcgSolve(benchmark::State& state, PcgSystem& system, cloth::ForceModelKind 
     const ParallelSettings parallel = system.sim->settings().parallel;
 
     int64_t iterations = 0;
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         std::fill(system.dv.begin(), system.dv.end(), Vec3::Zero());  // cold start each solve
         const cloth::PcgResult result = cloth::solveFilteredPcg(
             a, system.filters, system.b, system.z, system.dv, settings, parallel, system.work);
@@ -91,6 +91,7 @@ std::string pcgSolveBenchmarkName(cloth::ForceModelKind model) {
 }
 
 void registerPcgSolveBenchmarks() {
+    // NOLINTBEGIN(clang-analyzer-cplusplus.NewDeleteLeaks): benchmark's registry owns them
     for (cloth::ForceModelKind model :
          {cloth::ForceModelKind::MassSpring, cloth::ForceModelKind::Continuum}) {
         auto system = std::make_shared<PcgSystem>();
@@ -100,6 +101,7 @@ void registerPcgSolveBenchmarks() {
             ->Unit(benchmark::kMicrosecond)
             ->UseRealTime();
     }
+    // NOLINTEND(clang-analyzer-cplusplus.NewDeleteLeaks)
 }
 
 } // namespace cc::bench

@@ -94,8 +94,8 @@ int main(int argc, char** argv) {
     cc::bench::registerStepBenchmarks();
     cc::bench::registerPcgSolveBenchmarks();
     cc::bench::registerBandwidthBenchmarks();
-    cc::bench::RecordingReporter reporter(
-        std::unique_ptr<benchmark::BenchmarkReporter>(benchmark::CreateDefaultDisplayReporter()));
+    cc::bench::RecordingReporter reporter{
+        std::unique_ptr<benchmark::BenchmarkReporter>(benchmark::CreateDefaultDisplayReporter())};
     benchmark::RunSpecifiedBenchmarks(&reporter);
     cc::bench::printRunSummary(stdout, reporter);
     benchmark::Shutdown();

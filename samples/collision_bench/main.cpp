@@ -87,7 +87,7 @@ BodyContactSettings contactSettings() {
 
 void BM_SkinOnly(benchmark::State& state) {
     Frame frame(1);
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         frame.advance();
         benchmark::DoNotOptimize(frame.body.data());
     }
@@ -98,7 +98,7 @@ void BM_SkinAndRefit(benchmark::State& state) {
     Frame frame(1);
     auto dev = device();
     auto body = BodyCollider::create(*dev, frame.mannequin.character.body.triangles, frame.body).value();
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         frame.advance();
         if (!body->update(frame.body, kDt)) state.SkipWithError("update failed");
     }
@@ -121,7 +121,7 @@ void BM_CharacterFrame(benchmark::State& state) {
     std::vector<Contact> contacts;
     const std::vector<const Collider*> colliders{body.get()};
     double contactCount = 0;
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         frame.advance();
         if (!body->update(frame.body, kDt)) state.SkipWithError("update failed");
         for (int g = 0; g < garments; ++g) {
@@ -151,7 +151,7 @@ void BM_CharacterFrameCapsules(benchmark::State& state) {
     BodyContactStage stage;
     std::vector<Contact> contacts;
     const std::vector<const Collider*> colliders{&proxies};
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         frame.advance();
         if (!proxies.update(capsulesAt(), kDt)) state.SkipWithError("update failed");
         for (int g = 0; g < garments; ++g) {
@@ -175,7 +175,7 @@ void BM_ClothStepSameSize(benchmark::State& state) {
         const uint32_t v = panel.vertexIndex(i, panel.rows);
         (void)sim->constraints().pin(v, mesh.positions[v]);
     }
-    for (auto _ : state) {
+    for (auto _ : state) { // NOLINT(clang-analyzer-deadcode.DeadStores) benchmark timing loop
         if (!sim->step(kDt)) state.SkipWithError("step failed");
     }
     state.counters["cloth_vertices"] = double(mesh.vertexCount());

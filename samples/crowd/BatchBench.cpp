@@ -49,7 +49,8 @@ BatchRun run(int count, int level, uint32_t batchSize, int frames, bool finestEf
     const int warmup = 30;
     for (int f = 1; f <= warmup + frames; ++f) {
         for (int c = 0; c < count; ++c) {
-            const double position[3] = {1.5 * (c % side), 0.0, 1.5 * (c / side) + 1.35 * f / 60.0};
+            const int row = c / side;
+            const double position[3] = {1.5 * (c % side), 0.0, 1.5 * row + 1.35 * f / 60.0};
             (void)world->setCharacterRoot(characters[c], position, 0.0);
         }
         cc::CameraDesc camera;

@@ -18,6 +18,7 @@ constexpr int kPlotNeedsMatplotlib = 3;  // scripts/plot-summary.py's exit code 
 
 int runProgram(const std::vector<std::string>& argv) {
     std::vector<char*> args;
+    args.reserve(argv.size() + 1);
     for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
     pid_t pid = 0;

@@ -1,5 +1,6 @@
 #include "Progress.h"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -9,7 +10,7 @@ namespace crowd {
 namespace {
 
 std::string minutesSeconds(double seconds) {
-    const int s = int(seconds + 0.5);
+    const int s = int(std::lround(seconds)); // elapsed and ETA are never negative
     char text[32];
     std::snprintf(text, sizeof(text), "%d:%02d", s / 60, s % 60);
     return text;

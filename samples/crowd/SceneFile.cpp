@@ -141,6 +141,7 @@ nlohmann::ordered_json cameraJson(const std::vector<CameraKey>& path) {
 /// Asset paths as the file stores them: relative to its directory, where readScene resolves them.
 std::vector<std::string> relativeTo(const std::filesystem::path& directory, const std::vector<std::string>& assets) {
     std::vector<std::string> out;
+    out.reserve(assets.size());
     for (const std::string& a : assets)
         out.push_back(std::filesystem::proximate(std::filesystem::absolute(a), std::filesystem::absolute(directory)).string());
     return out;

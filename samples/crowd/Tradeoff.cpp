@@ -142,6 +142,7 @@ void printRow(const Row& r) {
 /// The sweeps every scene runs (the presets are added per scene: their level follows the garment).
 std::vector<Config> commonConfigs(int top) {
     std::vector<Config> configs;
+    configs.reserve(kShippedLevels + 15); // the shipped levels, then the 15 sweeps below
     for (int level = 0; level < int(kShippedLevels); ++level) configs.push_back(shipped(level));
     const int finest = int(kShippedLevels) - 1;
     {
@@ -237,6 +238,7 @@ int runTradeoff(const std::string& outDir, double seconds) {
             if (same == sceneConfigs.end()) sceneConfigs.push_back(c);
         }
         std::vector<WindowConfig> windowConfigs;
+        windowConfigs.reserve(sceneConfigs.size());
         for (const Config& c : sceneConfigs) windowConfigs.push_back({descFor(c, scene.levelCount), c.level});
         const std::vector<WindowResult> results = runWindows(scene, reference, windowConfigs);
         std::vector<Row> sceneRows;

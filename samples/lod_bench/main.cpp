@@ -197,9 +197,10 @@ int main(int argc, char** argv) {
         std::printf("%-12s %.1f substeps and %.0f PCG iterations per step", "", r.substeps / r.steps,
                     r.iterations / r.steps);
         if (r.rebuilds) {
+            const uint32_t adaptCalls = r.steps / kAdaptEvery; // on every kAdaptEvery-th step
             std::printf("; %u adapt() calls took %.2f ms each (criteria, split/merge); %u changes, each %.2f ms "
                         "to export the ClothMesh and %.2f ms to rebuild the solver",
-                        r.steps / kAdaptEvery, r.criteriaMs / (r.steps / kAdaptEvery), r.rebuilds,
+                        adaptCalls, r.criteriaMs / adaptCalls, r.rebuilds,
                         r.exportMs / r.rebuilds, r.solverBuildMs / r.rebuilds);
         }
         std::printf("\n");

@@ -91,6 +91,7 @@ inline std::vector<Mat4> localsAt(const Character& c, double t) {
     std::vector<Transform> local(c.skeleton.jointCount());
     c.clips[0].evaluate(c.skeleton, t, ClipWrap::Clamp, local);
     std::vector<Mat4> out;
+    out.reserve(local.size());
     for (const Transform& l : local) out.push_back(l.matrix());
     return out;
 }
@@ -290,6 +291,7 @@ inline void writeB3d(const Character& c, const std::string& path, const FileSpac
     };
     const int fps = 30, frames = int(std::lround(c.clips[0].duration * fps)) + 1;
     std::vector<std::vector<Mat4>> keys;
+    keys.reserve(std::size_t(frames));
     for (int f = 0; f < frames; ++f) keys.push_back(localsAt(c, double(f) / fps));
     const std::vector<Mat4> rest = localsAt(c, 0.0);
     const std::function<void(std::size_t)> node = [&](std::size_t j) {

@@ -152,7 +152,7 @@ std::string throughAssimp(const TempDir& dir, const char* format, const char* ex
         scene->mAnimations = nullptr;
         scene->mNumAnimations = 0;
     }
-    const std::string out = dir / (std::string("rig_") + format + "." + ext);
+    std::string out = dir / (std::string("rig_") + format + "." + ext);
     Assimp::Exporter exporter;
     EXPECT_EQ(exporter.Export(scene, format, out), aiReturn_SUCCESS) << exporter.GetErrorString();
     delete scene;

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 fs::path tempDirPath() { return fs::temp_directory_path() / ("cc_import_tests_" + std::to_string(::getpid())); }
 
 fs::path tempDir() {
-    const fs::path dir = tempDirPath();
+    fs::path dir = tempDirPath();
     fs::create_directories(dir);
     return dir;
 }
@@ -121,7 +121,7 @@ std::string convertWithAssimp(const Character& ch, const std::string& ext, const
     delete[] scene->mAnimations;
     scene->mAnimations = nullptr;
     scene->mNumAnimations = 0;
-    const std::string out = (dir / ("converted." + ext)).string();
+    std::string out = (dir / ("converted." + ext)).string();
     Assimp::Exporter exporter;
     EXPECT_EQ(exporter.Export(scene, format, out), aiReturn_SUCCESS) << exporter.GetErrorString();
     delete scene;
@@ -357,17 +357,20 @@ TEST(Import, WeightsNotSummingToOneAreRejected) {
     const fs::path dir = tempDir();
     const std::string path = (dir / "half_weights.glb").string();
     {
+        // Each object goes into its owner's array as it is made: ~aiScene deletes the tree.
         aiScene scene;
         scene.mRootNode = new aiNode("root");
-        auto* boneNode = new aiNode("bone");
-        auto* meshNode = new aiNode("mesh");
+        scene.mRootNode->mNumChildren = 2;
+        scene.mRootNode->mChildren = new aiNode*[2]{};
+        aiNode* boneNode = scene.mRootNode->mChildren[0] = new aiNode("bone");
+        aiNode* meshNode = scene.mRootNode->mChildren[1] = new aiNode("mesh");
         meshNode->mNumMeshes = 1;
         meshNode->mMeshes = new unsigned int[1]{0};
-        scene.mRootNode->mNumChildren = 2;
-        scene.mRootNode->mChildren = new aiNode*[2]{boneNode, meshNode};
         boneNode->mParent = scene.mRootNode;
         meshNode->mParent = scene.mRootNode;
-        auto* mesh = new aiMesh();
+        scene.mNumMeshes = 1;
+        scene.mMeshes = new aiMesh*[1]{};
+        aiMesh* mesh = scene.mMeshes[0] = new aiMesh();
         mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
         mesh->mNumVertices = 3;
         mesh->mVertices = new aiVector3D[3]{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -376,16 +379,15 @@ TEST(Import, WeightsNotSummingToOneAreRejected) {
         mesh->mFaces = new aiFace[1];
         mesh->mFaces[0].mNumIndices = 3;
         mesh->mFaces[0].mIndices = new unsigned int[3]{0, 1, 2};
-        auto* bone = new aiBone();
+        mesh->mNumBones = 1;
+        mesh->mBones = new aiBone*[1]{};
+        aiBone* bone = mesh->mBones[0] = new aiBone();
         bone->mName = aiString("bone");
         bone->mNumWeights = 3;
         bone->mWeights = new aiVertexWeight[3]{{0, 0.5f}, {1, 0.5f}, {2, 0.5f}};
-        mesh->mNumBones = 1;
-        mesh->mBones = new aiBone*[1]{bone};
-        scene.mNumMeshes = 1;
-        scene.mMeshes = new aiMesh*[1]{mesh};
         scene.mNumMaterials = 1;
-        scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+        scene.mMaterials = new aiMaterial*[1]{};
+        scene.mMaterials[0] = new aiMaterial();
         Assimp::Exporter exporter;
         ASSERT_EQ(exporter.Export(&scene, "glb2", path), aiReturn_SUCCESS) << exporter.GetErrorString();
     }

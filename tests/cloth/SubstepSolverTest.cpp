@@ -306,7 +306,7 @@ TEST(SubstepSolver, FrictionOnAnInclineSticksBelowTheAngleAndSlidesAboveIt) {
         settings.substeps = 20;
         settings.friction = Friction{mu, mu};
         const double dt = 1.0 / 60.0, seconds = 1.0;
-        for (int step = 0; step < int(seconds / dt + 0.5); ++step) {
+        for (int step = 0; step < int(std::lround(seconds / dt)); ++step) {
             // The plane is tangent at the particle's current point: a long, flat incline.
             c.point = sim->positions()[0] - normal * normal.dot(sim->positions()[0]);
             sim->setContacts({c});

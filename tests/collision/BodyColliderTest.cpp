@@ -198,6 +198,7 @@ TEST(BodyCollider, ManyPartsNearAPointGiveItsNearestPartsExactly) {
     }
     auto body = BodyCollider::create(*device, all.triangles, all.positions).value();
     std::vector<Vec3> points;
+    points.reserve(800);
     for (int i = 0; i < 800; ++i) points.push_back(Vec3(0.0, 1.15, 0.0) + 0.3 * Vec3(u(rng), u(rng), u(rng)));
     ContactQuery query;
     query.thickness = 0.01;
@@ -208,6 +209,7 @@ TEST(BodyCollider, ManyPartsNearAPointGiveItsNearestPartsExactly) {
     int withFour = 0;
     for (uint32_t i = 0; i < points.size(); ++i) {
         std::vector<double> distance;
+        distance.reserve(parts.size());
         for (const test::BodyMesh& part : parts) distance.push_back(bruteClosest(part, points[i]).distance);
         std::vector<double> within;
         for (double d : distance)

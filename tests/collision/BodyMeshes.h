@@ -70,7 +70,7 @@ inline Vec3 bruteClosestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, 
     };
     const Vec3 n = (b - a).cross(c - a);
     if (n.squaredNorm() > 0) {
-        const Vec3 q = p - n * ((p - a).dot(n) / n.squaredNorm());
+        Vec3 q = p - n * ((p - a).dot(n) / n.squaredNorm());
         const bool in = (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
                         (a - c).cross(q - c).dot(n) >= 0;
         if (in) return q;

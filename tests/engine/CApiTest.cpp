@@ -1,5 +1,4 @@
 #include <cmath>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -102,7 +101,8 @@ TEST(CApi, DescDefaultsAreTheCppDefaults) {
     EXPECT_EQ(g.force_level, GarmentDesc{}.forceLevel);
     cc_camera_desc cam;
     cc_camera_desc_init(&cam);
-    EXPECT_EQ(0, std::memcmp(cam.view_projection, CameraDesc{}.viewProjection, sizeof(cam.view_projection)));
+    const CameraDesc ccam;
+    for (int k = 0; k < 16; ++k) EXPECT_EQ(cam.view_projection[k], ccam.viewProjection[k]) << "element " << k;
 }
 
 /// A character file through the C API: a body the world skins, its clips by index, a garment

@@ -19,7 +19,7 @@ using test::distanceToSurface;
 using test::vertexOf;
 using test::windingNumber;
 
-struct Case {
+struct GarmentOnBodyCase {
     GarmentKind kind;
     const char* clip;
     double rate;  ///< [Hz]
@@ -27,18 +27,18 @@ struct Case {
 };
 
 /// Names the case in gtest's output (the default would print the clip pointer's bytes).
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const GarmentOnBodyCase& c, std::ostream* os) {
     *os << (c.kind == GarmentKind::Cape ? "cape" : "skirt") << " " << c.clip << " " << c.rate << " Hz";
 }
 
-class GarmentOnBody : public ::testing::TestWithParam<Case> {};
+class GarmentOnBody : public ::testing::TestWithParam<GarmentOnBodyCase> {};
 
 /// A garment close to the camera (finest level, mesh collision) on the mannequin's walk or run:
 /// no simulated vertex ends deeper inside the body than the collision thickness, measured with a
 /// winding number over the posed body, independent of the solver's own contacts; and the strain
 /// limit holds. (The substepped solver never splits a step: there are no halvings to count.)
 TEST_P(GarmentOnBody, StaysOutsideTheBody) {
-    const Case c = GetParam();
+    const GarmentOnBodyCase c = GetParam();
     WorldDesc desc;
     desc.fixedCostModel = true;
     WorldPtr world(World::create(desc).value());
@@ -98,11 +98,15 @@ TEST_P(GarmentOnBody, StaysOutsideTheBody) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Mannequin, GarmentOnBody,
-                         ::testing::Values(Case{GarmentKind::Cape, "walk", 60, 1.35}, Case{GarmentKind::Cape, "walk", 30, 1.35},
-                                           Case{GarmentKind::Cape, "run", 60, 4.6}, Case{GarmentKind::Cape, "run", 30, 4.6},
-                                           Case{GarmentKind::Skirt, "walk", 60, 1.35}, Case{GarmentKind::Skirt, "walk", 30, 1.35},
-                                           Case{GarmentKind::Skirt, "run", 60, 4.6}, Case{GarmentKind::Skirt, "run", 30, 4.6}),
-                         [](const ::testing::TestParamInfo<Case>& caseInfo) {
+                         ::testing::Values(GarmentOnBodyCase{GarmentKind::Cape, "walk", 60, 1.35},
+                                           GarmentOnBodyCase{GarmentKind::Cape, "walk", 30, 1.35},
+                                           GarmentOnBodyCase{GarmentKind::Cape, "run", 60, 4.6},
+                                           GarmentOnBodyCase{GarmentKind::Cape, "run", 30, 4.6},
+                                           GarmentOnBodyCase{GarmentKind::Skirt, "walk", 60, 1.35},
+                                           GarmentOnBodyCase{GarmentKind::Skirt, "walk", 30, 1.35},
+                                           GarmentOnBodyCase{GarmentKind::Skirt, "run", 60, 4.6},
+                                           GarmentOnBodyCase{GarmentKind::Skirt, "run", 30, 4.6}),
+                         [](const ::testing::TestParamInfo<GarmentOnBodyCase>& caseInfo) {
                              return std::string(caseInfo.param.kind == GarmentKind::Cape ? "Cape" : "Skirt") +
                                     (std::string(caseInfo.param.clip) == "walk" ? "Walk" : "Run") +
                                     std::to_string(int(caseInfo.param.rate)) + "Hz";

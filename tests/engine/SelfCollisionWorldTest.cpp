@@ -98,13 +98,15 @@ void print(const char* name, const SelfRun& r) {
                 r.solveMs / std::max(1, r.frames), r.collisionMs / std::max(1, r.frames), r.selfMs / std::max(1, r.frames));
 }
 
-struct Case {
+struct SelfCollisionCase {
     const char* name;
     GarmentKind kind;
     GarmentCut cut;
 };
 
-class SelfCollisionInTheWorld : public ::testing::TestWithParam<Case> {};
+void PrintTo(const SelfCollisionCase& c, std::ostream* os) { *os << c.name; }
+
+class SelfCollisionInTheWorld : public ::testing::TestWithParam<SelfCollisionCase> {};
 
 TEST_P(SelfCollisionInTheWorld, AFoldingGarmentStaysFreeOfSelfIntersections) {
     ClothAssetDesc asset;
@@ -130,16 +132,17 @@ TEST_P(SelfCollisionInTheWorld, AFoldingGarmentStaysFreeOfSelfIntersections) {
     EXPECT_LE(on.deepest, std::max(asset.thickness, off.deepest) + 1.5 * asset.thickness);
 }
 
-INSTANTIATE_TEST_SUITE_P(Garments, SelfCollisionInTheWorld,
-                         ::testing::Values(Case{"circle skirt", GarmentKind::Skirt, GarmentCut::Circle},
-                                           Case{"dress", GarmentKind::Dress, GarmentCut::ALine},
-                                           Case{"half-circle cape", GarmentKind::Cape, GarmentCut::Circle}),
-                         [](const ::testing::TestParamInfo<Case>& param) {
-                             std::string name = param.param.name;
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Garments, SelfCollisionInTheWorld,
+    ::testing::Values(SelfCollisionCase{"circle skirt", GarmentKind::Skirt, GarmentCut::Circle},
+                      SelfCollisionCase{"dress", GarmentKind::Dress, GarmentCut::ALine},
+                      SelfCollisionCase{"half-circle cape", GarmentKind::Cape, GarmentCut::Circle}),
+    [](const ::testing::TestParamInfo<SelfCollisionCase>& param) {
+        std::string name = param.param.name;
+        for (char& c : name)
+            if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+        return name;
+    });
 
 } // namespace
 } // namespace cc

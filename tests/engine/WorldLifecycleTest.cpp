@@ -109,8 +109,9 @@ struct Joiners {
             CharacterDesc c;
             c.body = body;
             c.clipTime = 0.01 * i;
+            const int row = i / 40; // forty to a row
             c.position[0] = x0 + 2.0 * (i % 40);
-            c.position[2] = -40.0 - 2.0 * (i / 40);
+            c.position[2] = -40.0 - 2.0 * row;
             j.characters.push_back(world.addCharacter(c).value());
             j.garments.push_back(world.addGarment(cape, j.characters.back(), {}).value());
         }
@@ -167,8 +168,10 @@ TEST(WorldLifecycle, ACrowdLeavingWhileAnotherJoinsInOneFrameGoesOnStepping) {
     const Joiners second = Joiners::join(*world, body, cape, 250, 100.0);
     stepTo(6);
     EXPECT_EQ(world->frameStats().garments, 255u);
-    for (std::size_t i = 0; i < second.garments.size(); i += 31)
-        expectFiniteNear(*world, second.garments[i], Vec3(100.0 + 2.0 * (i % 40), 0.0, -40.0 - 2.0 * (i / 40)), 3.0);
+    for (std::size_t i = 0; i < second.garments.size(); i += 31) {
+        const std::size_t row = i / 40; // as Joiners::join placed them
+        expectFiniteNear(*world, second.garments[i], Vec3(100.0 + 2.0 * (i % 40), 0.0, -40.0 - 2.0 * row), 3.0);
+    }
     second.leave(*world);
     stepTo(7);
     EXPECT_EQ(world->frameStats().garments, 5u);

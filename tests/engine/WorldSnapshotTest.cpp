@@ -111,7 +111,8 @@ struct Crowd {
 /// Where character i walks at time t [s]; number 9 stands still behind the camera (it sleeps).
 Vec3 rootOf(int i, double t) {
     if (i == 9) return Vec3(0.0, 0.0, 25.0);
-    return Vec3(1.2 * (i % 4) - 1.5 + 0.6 * t, 0.0, -1.6 * (i / 4));
+    const int row = i / 4; // four to a row
+    return Vec3(1.2 * (i % 4) - 1.5 + 0.6 * t, 0.0, -1.6 * row);
 }
 
 void addWalker(World& world, const Cooked& s, Crowd& run, int i) {

@@ -91,7 +91,7 @@ TEST(StateTransfer, RenderMeshIsTheInterpolationOperatorOnceMorphsFade) {
 }
 
 TEST(StateTransfer, SeamAndWrapCopiesConserveMassAndMomentum) {
-    for (auto pattern : {GarmentPattern::skirt(1.2, 0.6, 0.3).value(), GarmentPattern::dress(0.6, 0.9, 0.3).value()}) {
+    for (const auto& pattern : {GarmentPattern::skirt(1.2, 0.6, 0.3).value(), GarmentPattern::dress(0.6, 0.9, 0.3).value()}) {
         auto h = GarmentHierarchy::create(pattern, HierarchySettings{}).value();
         ASSERT_TRUE(h.setUniformLevel(3));
         ActiveMesh active = h.activeMesh();

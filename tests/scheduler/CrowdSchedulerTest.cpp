@@ -103,6 +103,7 @@ TEST(ProjectSphere, ASphereAroundTheEyeIsSeenAtTheNearPlanesScale) {
 
 TEST(CrowdScheduler, LevelFallsAndIntervalGrowsWithDistance) {
     std::vector<GarmentRequest> requests;
+    requests.reserve(60);
     for (int i = 0; i < 60; ++i) requests.push_back(garmentAt(i, 1.0 + 4.0 * i));
     const auto out = schedule(unlimited(), requests);
     for (std::size_t i = 1; i < out.size(); ++i) {
@@ -135,6 +136,7 @@ TEST(CrowdScheduler, StaysWithinBudgetWithTheFixedCostModel) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> distance(1.0, 60.0);
     std::vector<GarmentRequest> requests;
+    requests.reserve(300);
     for (int i = 0; i < 300; ++i) requests.push_back(garmentAt(i, distance(rng), 1.4));
     const auto free = schedule(unlimited(), requests);
     double freeCost = 0.0, freeError = 0.0;
@@ -164,6 +166,7 @@ TEST(CrowdScheduler, DegradesTheLeastImportantAndFarthestFirst) {
 
 TEST(CrowdScheduler, SpendsSlackOnTheLargestGains) {
     std::vector<GarmentRequest> requests;
+    requests.reserve(20);
     for (int i = 0; i < 20; ++i) requests.push_back(garmentAt(i, 5.0 + 5.0 * i));
     SchedulerSettings settings;
     settings.refineWithSlack = false;
@@ -223,6 +226,7 @@ TEST(CrowdScheduler, ResultDoesNotDependOnInputOrder) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> distance(1.0, 80.0);
     std::vector<GarmentRequest> requests;
+    requests.reserve(100);
     for (int i = 0; i < 100; ++i) requests.push_back(garmentAt(1000 - i, distance(rng)));
     requests[10].center = requests[11].center; // an exact tie: decided by id
     SchedulerSettings settings;
@@ -362,6 +366,7 @@ TEST(CrowdScheduler, PredictsMeasuredErrorsInProportionToTheGarmentsSizeAndSpeed
 
 TEST(CrowdScheduler, KeepsGarmentsWithinTheToleranceByMeasuredErrorsAndDegradesByThem) {
     std::vector<GarmentRequest> requests;
+    requests.reserve(40);
     for (int i = 0; i < 40; ++i) requests.push_back(garmentAt(i, 2.0 + 3.0 * i, i % 3 == 0 ? 3.0 : 1.0));
     const GarmentProfile profile = measuredFiveLevels();
     const auto free = schedule(unlimited(), requests, profile);

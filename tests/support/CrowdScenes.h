@@ -54,8 +54,9 @@ inline WalkingCrowd addWalkingCrowd(World& world, AssetId asset, int count, int 
         CharacterDesc c;
         c.body = bodies[i % bodies.size()];
         c.clipTime = 0.13 * i;
+        const int row = i / 10; // ten to a row
         c.position[0] = 1.5 * (i % 10);
-        c.position[2] = -2.0 * (i / 10);
+        c.position[2] = -2.0 * row;
         crowd.starts.push_back(Vec3(c.position[0], c.position[1], c.position[2]));
         crowd.characters.push_back(world.addCharacter(c).value());
         crowd.garments.push_back(world.addGarment(asset, crowd.characters.back(), {}).value());
