@@ -1,24 +1,28 @@
 #!/usr/bin/env bash
-# Fuzzes the import gate (tests/fuzz/FuzzImport.cpp: importCharacter on any bytes under any
-# extension) with libFuzzer under AddressSanitizer + UndefinedBehaviorSanitizer (Debian's clang)
-# for FUZZ_SECONDS (default 60), starting from the committed seeds and findings
-# (tests/fuzz/import_corpus). The run's new inputs stay in build-fuzz/; a crash, a leak, an input
-# slower than 20 s or an allocation over 1 GB fails the run and leaves the input there (fix it,
-# then commit it to import_corpus/). Called by run-tests.sh; needs the packages of install-deps.sh.
-#   FUZZ_TARGETS="import world" also builds and fuzzes the World's calls (tests/fuzz/FuzzWorld.cpp;
-#   the whole engine, so not in CI's time).
+# Fuzzes with libFuzzer under AddressSanitizer + UndefinedBehaviorSanitizer (Debian's clang), each
+# target for FUZZ_SECONDS (default 45) from its committed seeds and findings:
+#   import  the import gate (tests/fuzz/FuzzImport.cpp: importCharacter on any bytes under any
+#           extension; tests/fuzz/import_corpus)
+#   world   any sequence of the World's calls with any values (FuzzWorld.cpp; corpus)
+#   capi    the C API misused as a C host might (FuzzCApi.cpp; capi_corpus)
+# FUZZ_TARGETS chooses (default all three). The run's new inputs stay in build-fuzz/; a crash, a
+# leak, an input slower than 20 s or an allocation over 1 GB fails the run and leaves the input
+# there (fix it, then commit it to the target's corpus). Called by run-tests.sh; needs the
+# packages of install-deps.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${FUZZ_SECONDS:-60}
-targets=${FUZZ_TARGETS:-import}
+seconds=${FUZZ_SECONDS:-45}
+targets=${FUZZ_TARGETS:-import world capi}
 
 san="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
 start=$(date +%s)
-# The import reader alone needs neither OpenMP (clang would want libomp) nor the samples.
+# No OpenMP (clang would want libomp; each input runs on one thread anyway) and no samples; the
+# libraries as unity builds: the whole engine then builds in about the time the import reader
+# alone took file by file.
 mkdir -p build-fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-      -DCC_BUILD_FUZZERS=ON -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF \
+      -DCC_BUILD_FUZZERS=ON -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF -DCC_UNITY_LIBRARIES=ON \
       -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" > build-fuzz/configure.log
 cmake --build build-fuzz --parallel "$(nproc)" --target $(for t in $targets; do echo "cc_fuzz_$t"; done)
 built=$(date +%s)
@@ -31,8 +35,10 @@ export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"  
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 findings=0
 for t in $targets; do
-    corpus=tests/fuzz/corpus
-    [ "$t" = import ] && corpus=tests/fuzz/import_corpus
+    case "$t" in
+        world) corpus=tests/fuzz/corpus ;;
+        *) corpus=tests/fuzz/${t}_corpus ;;
+    esac
     found=build-fuzz/found_$t
     mkdir -p "$found"
     # One job per core; -timeout and -malloc_limit_mb make a hang or a huge allocation a finding.

@@ -27,7 +27,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_S
 # renderer and anything else no fast suite needs are left to the Release build.
 fast_suites=$(ninja -C build-asan -t targets all | sed -nE 's/^(cc_[a-z_]+_tests): phony$/\1/p' |
               grep -v '_slow_tests$')
-fast_suites="$fast_suites cc_fuzz_world_replay cc_fuzz_import_replay"  # the fuzz corpora, under the sanitizers too
+fast_suites="$fast_suites cc_fuzz_world_replay cc_fuzz_capi_replay cc_fuzz_import_replay"  # the fuzz corpora, under the sanitizers too
 cmake --build build-asan --parallel "$(nproc)" --target $fast_suites
 built=$(date +%s)
 

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, runs cppcheck on the project's code (scripts/run-analysis.sh) and
-# every test through CTest; then builds the consumer
-# projects against an install (scripts/check-consumers.sh); then the fast tests again under
-# AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh); then a
-# minute of libFuzzer on the import gate (scripts/run-fuzz.sh); then the World's concurrency tests
-# under ThreadSanitizer (scripts/run-tsan.sh).
+# Installs dependencies, builds, runs cppcheck and clang-tidy on the project's code
+# (scripts/run-analysis.sh) and every test through CTest; then builds the consumer projects
+# against an install (scripts/check-consumers.sh); then the fast tests again under
+# AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh); then
+# libFuzzer on the import gate, the World and the C API (scripts/run-fuzz.sh) beside the World's
+# concurrency tests under ThreadSanitizer (scripts/run-tsan.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
