@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -273,6 +274,13 @@ TEST(CApi, BadCallsReturnStatusesNotCrashes) {
     ad.cell_size = 0.0;
     EXPECT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_INVALID_ARGUMENT);
     EXPECT_NE(std::string(cc_world_last_error(world)).find("cellSize"), std::string::npos);
+    // A C host may store any int in an enum field (C allows it): refused by name, not undefined.
+    for (const int32_t kind : {4, -1, 1 << 30}) {
+        cc_cloth_asset_desc_init(&ad);
+        std::memcpy(&ad.kind, &kind, sizeof kind);
+        EXPECT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_INVALID_ARGUMENT) << kind;
+        EXPECT_NE(std::string(cc_world_last_error(world)).find("kind"), std::string::npos) << kind;
+    }
     cc_cloth_asset_desc_init(&ad);
     ASSERT_EQ(cc_world_add_cloth_asset(world, &ad, &asset), CC_OK);
 
