@@ -18,10 +18,11 @@ san="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sa
 start=$(date +%s)
 # No OpenMP (clang would want libomp; each input runs on one thread anyway) and no samples; the
 # libraries as unity builds: the whole engine then builds in about the time the import reader
-# alone took file by file.
+# alone took file by file. -O2, not -O1: Eigen's small functions inlined, the C API fuzzes six
+# times as many inputs a second (measured: 2,335 against 367 runs in 45 s).
 mkdir -p build-fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
       -DCC_BUILD_FUZZERS=ON -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF -DCC_UNITY_LIBRARIES=ON \
       -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" > build-fuzz/configure.log
 cmake --build build-fuzz --parallel "$(nproc)" --target $(for t in $targets; do echo "cc_fuzz_$t"; done)
