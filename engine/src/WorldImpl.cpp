@@ -519,8 +519,28 @@ Status WorldImpl::beginStep(double dt) {
     }
     recycleMeshColliders();
     mStepPhase = StepPhase::Prepare;
+    mTasksSkipped = 0;
+    openPhaseTasks();
     mPhaseStart = Clock::now();
     return Status::ok();
+}
+
+void WorldImpl::openPhaseTasks() {
+    const uint32_t count = stepTaskCount();
+    if (count > mTaskRanCapacity) {  // grows to the largest phase, then stays
+        mTaskRanCapacity = std::max(count, 2 * mTaskRanCapacity);
+        mTaskRan = std::make_unique<std::atomic<uint8_t>[]>(mTaskRanCapacity);
+    }
+    for (uint32_t i = 0; i < count; ++i) mTaskRan[i].store(0, std::memory_order_relaxed);
+}
+
+void WorldImpl::runSkippedTasks() {
+    // The host has waited for its tasks (the contract), so their flags are visible here.
+    for (uint32_t i = 0, count = stepTaskCount(); i < count; ++i)
+        if (mTaskRan[i].load(std::memory_order_relaxed) == 0) {
+            (void)runStepTask(i);
+            ++mTasksSkipped;
+        }
 }
 
 void WorldImpl::spareMeshCollider(CharacterInstance& c) {
@@ -584,6 +604,9 @@ Status WorldImpl::runStepTask(uint32_t index) {
     if (index >= stepTaskCount())
         return Status::invalidArgument("runStepTask: index " + std::to_string(index) + " is not below stepTaskCount() = " +
                                        std::to_string(stepTaskCount()));
+    if (mTaskRan[index].exchange(1, std::memory_order_relaxed) != 0)
+        return Status::error(StatusCode::InvalidOperation,
+                             "runStepTask: task " + std::to_string(index) + " of this phase has already run");
     if (mStepPhase == StepPhase::Prepare) {
         // 2. Bodies and contacts, in parallel over the updating garments: the first garment of a
         //    character poses (and skins and refits) its body once; each then switches level and
@@ -601,6 +624,7 @@ Status WorldImpl::runStepTask(uint32_t index) {
 }
 
 bool WorldImpl::nextStepPhase() {
+    runSkippedTasks();
     if (mStepPhase != StepPhase::Prepare) {
         if (mStepPhase == StepPhase::Simulate) mStepPhase = StepPhase::Finish;
         return false;
@@ -659,6 +683,7 @@ bool WorldImpl::nextStepPhase() {
     //    when the host asks (most garments of a large crowd are not drawn every frame; those that
     //    are can be asked for from several threads).
     mStepPhase = StepPhase::Simulate;
+    openPhaseTasks();
     return true;
 }
 
@@ -739,6 +764,11 @@ Status WorldImpl::endStep() {
         frame.cameras = Span<const lod::SchedulerCamera>(mCameras.data(), mCameras.size());
         mShadow.step(frame, Span<const GarmentRef>(mItems.data(), mItems.size()));
     }
+    if (mTasksSkipped > 0)
+        return Status::error(StatusCode::InvalidOperation,
+                             "endStep: the step is complete, but " + std::to_string(mTasksSkipped) +
+                                 " of its tasks were left unrun by the host and run by nextStepPhase(); run every "
+                                 "index below stepTaskCount() in each phase");
     return Status::ok();
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <vector>
@@ -139,6 +140,14 @@ private:
     enum class StepPhase { Idle, Prepare, Simulate, Finish };
     StepPhase mStepPhase = StepPhase::Idle;
     std::chrono::steady_clock::time_point mFrameStart, mPhaseStart;
+    /// One flag per task of the open phase, set by the task as it starts: a task the host runs
+    /// twice is refused, one it never runs is run by nextStepPhase (a host's bug must not leave a
+    /// garment half stepped, nor step it twice).
+    std::unique_ptr<std::atomic<uint8_t>[]> mTaskRan;
+    uint32_t mTaskRanCapacity = 0;
+    uint32_t mTasksSkipped = 0;  ///< this step's tasks the host left to nextStepPhase
+    void openPhaseTasks();
+    void runSkippedTasks();
 
     // Per-frame scratch, kept to avoid allocating in the frame loop.
     std::vector<GarmentRef> mItems;

@@ -1,4 +1,5 @@
 #include <atomic>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -81,6 +82,33 @@ TEST(HostJobs, TheCApiGivesTheStepHash) {
                              [&](uint32_t i) { EXPECT_EQ(cc_world_run_step_task(&c, i), CC_OK); });
         } while (cc_world_next_step_phase(&c));
         ASSERT_EQ(cc_world_end_step(&c), CC_OK) << c.lastError;
+    });
+    EXPECT_EQ(hashes, reference);
+}
+
+TEST(HostJobs, ASloppyHostNeitherBreaksNorDoublesTheStep) {
+    // A host that forgets the first task of each phase and runs the last twice: the second run is
+    // refused, nextStepPhase runs the forgotten one, the state is bit for bit step()'s, and
+    // endStep says what the host did.
+    const auto reference = crowdHashes([](World& w) { ASSERT_TRUE(w.step(1.0 / 60.0).isOk()); });
+    const auto hashes = crowdHashes([](World& w) {
+        ASSERT_TRUE(w.beginStep(1.0 / 60.0).isOk());
+        uint32_t skipped = 0;
+        do {
+            const uint32_t n = w.stepTaskCount();
+            if (n == 0) continue;
+            runOnHostThreads(2, n - 1, [&](uint32_t i) { EXPECT_TRUE(w.runStepTask(i + 1).isOk()); });
+            EXPECT_NE(w.runStepTask(n - 1).message().find("already run"), std::string::npos);
+            ++skipped;
+        } while (w.nextStepPhase());
+        const Status end = w.endStep();
+        if (skipped == 0) {
+            EXPECT_TRUE(end.isOk());
+        } else {
+            EXPECT_EQ(end.code(), StatusCode::InvalidOperation);
+            EXPECT_NE(end.message().find(std::to_string(skipped) + " of its tasks were left unrun"), std::string::npos)
+                << end.message();
+        }
     });
     EXPECT_EQ(hashes, reference);
 }

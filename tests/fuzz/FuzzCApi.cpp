@@ -3,7 +3,8 @@
 // range, handles made up or stale, the phased step's calls out of order and with any task index,
 // snapshots of any bytes. The header's promise is checked: every call returns a cc_status and
 // never crashes, a failure leaves a message naming it, and what a call hands out (meshes, stats,
-// names, JSON, snapshots) is readable and finite. FuzzWorld.cpp fuzzes the World behind it.
+// names, JSON, snapshots) is readable and finite; a sloppy host's step (a task skipped, another
+// run twice) stays whole. FuzzWorld.cpp fuzzes the World behind it.
 // Built for libFuzzer with -DCC_BUILD_FUZZERS=ON (clang), and always as cc_fuzz_capi_replay,
 // which runs the committed corpus (tests/fuzz/capi_corpus) in CTest.
 #include <cmath>
@@ -217,7 +218,8 @@ void setView(Input& in, cc_world* w) {
 }
 
 /// A step whole, or in phases with each phase's tasks in any order plus one past the count, and
-/// calls that must wait for the step's end made in the middle of it.
+/// calls that must wait for the step's end made in the middle of it; a sloppy host's phase skips a
+/// task and runs another twice (refused; the skipped one is run for it, and end_step says so).
 void step(Input& in, cc_world* w, const std::vector<cc_garment_id>& garments) {
     const double dt = in.byte() % 8 ? 1.0 / 60.0 : in.real(0.0, 0.2);
     if (in.byte() % 2) {
@@ -225,11 +227,16 @@ void step(Input& in, cc_world* w, const std::vector<cc_garment_id>& garments) {
         return;
     }
     if (checked(w, cc_world_begin_step(w, dt), "cc_world_begin_step") != CC_OK) return;
+    bool skipped = false;
     for (int phase = 0; phase < 16; ++phase) {
         const uint32_t tasks = cc_world_step_task_count(w);
         const uint32_t start = tasks ? in.byte() % tasks : 0;
-        for (uint32_t k = 0; k < tasks; ++k)  // a rotation: each task once
+        const bool sloppy = tasks > 1 && in.byte() % 8 == 0;
+        for (uint32_t k = sloppy ? 1 : 0; k < tasks; ++k)  // a rotation: each task once
             if (cc_world_run_step_task(w, (start + k) % tasks) != CC_OK) fail("cc_world_run_step_task", "refused a task");
+        if (sloppy && cc_world_run_step_task(w, (start + 1) % tasks) == CC_OK)
+            fail("cc_world_run_step_task", "ran a task twice in one phase");
+        skipped = skipped || sloppy;
         if (cc_world_run_step_task(w, tasks + in.byte() % 4) == CC_OK) fail("cc_world_run_step_task", "ran a task past the count");
         if (in.byte() % 8 == 0 &&
             (checked(w, cc_world_remove_garment(w, pick(in, garments)), "cc_world_remove_garment mid-step") == CC_OK ||
@@ -237,7 +244,8 @@ void step(Input& in, cc_world* w, const std::vector<cc_garment_id>& garments) {
             fail("a call mid-step", "was carried out between begin_step and end_step");
         if (!cc_world_next_step_phase(w)) break;
     }
-    (void)checked(w, cc_world_end_step(w), "cc_world_end_step");
+    const cc_status end = checked(w, cc_world_end_step(w), "cc_world_end_step");
+    if (skipped && end != CC_INVALID_OPERATION) fail("cc_world_end_step", "did not report the skipped task");
 }
 
 void read(Input& in, cc_world* w, const std::vector<cc_garment_id>& garments) {

@@ -422,10 +422,14 @@ public:
     /// calls that change or read characters and garments return InvalidOperation meanwhile.
     Status beginStep(double dt);
     uint32_t stepTaskCount() const;
-    /// Runs task `index` of the current phase; fails only for an index not below stepTaskCount().
+    /// Runs task `index` of the current phase; fails (doing nothing) for an index not below
+    /// stepTaskCount() and for a task that has already run in this phase.
     Status runStepTask(uint32_t index);
     /// After every task of the phase has returned: opens the next phase (true) or ends (false).
+    /// A task the host left unrun is run here first, so the step stays whole and bit for bit
+    /// step()'s; endStep() then reports it.
     bool nextStepPhase();
+    /// Ends the step; InvalidOperation (the step nonetheless complete) when tasks were left unrun.
     Status endStep();
 
     /// The garment's render mesh in world space, valid until the next step() or removal. A

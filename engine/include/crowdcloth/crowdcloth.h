@@ -231,7 +231,10 @@ CC_API cc_status cc_world_step(cc_world* world, double dt);
  *   do { run cc_world_run_step_task(world, i) for i < cc_world_step_task_count(), any threads, and
  *        wait for all } while (cc_world_next_step_phase(world));
  *   cc_world_end_step(world);
- * cc_world_run_step_task may run concurrently: it records no last error (its status says all). */
+ * cc_world_run_step_task may run concurrently: it records no last error (its status says all). A
+ * task run twice in a phase is refused (CC_INVALID_OPERATION); one never run is run by
+ * cc_world_next_step_phase, and cc_world_end_step then returns CC_INVALID_OPERATION with the step
+ * complete. */
 CC_API cc_status cc_world_begin_step(cc_world* world, double dt);
 CC_API uint32_t cc_world_step_task_count(const cc_world* world);
 CC_API cc_status cc_world_run_step_task(cc_world* world, uint32_t index);
