@@ -20,7 +20,7 @@ using test::WorldPtr;
 
 constexpr int kCharacters = 5;
 constexpr int kVictim = 2;
-constexpr double kDt = 1.0 / 60.0;
+constexpr double kFrameDt = 1.0 / 60.0;
 
 struct Scene {
     WorldPtr world;
@@ -61,8 +61,8 @@ TEST(FaultIsolation, BadInputForOneCharacterIsRefusedByNameAndLeavesTheOthersBit
     Scene clean = makeScene(), faulty = makeScene();
     const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
     for (int frame = 1; frame <= 60; ++frame) {
-        test::walkCrowd(*clean.world, clean.crowd, frame * kDt);
-        test::walkCrowd(*faulty.world, faulty.crowd, frame * kDt);
+        test::walkCrowd(*clean.world, clean.crowd, frame * kFrameDt);
+        test::walkCrowd(*faulty.world, faulty.crowd, frame * kFrameDt);
         World& w = *faulty.world;
         const CharacterId victim = faulty.crowd.characters[kVictim];
         if (frame % 10 == 3) {
@@ -75,7 +75,7 @@ TEST(FaultIsolation, BadInputForOneCharacterIsRefusedByNameAndLeavesTheOthersBit
             const double p[3] = {0, 0, 0};
             EXPECT_FALSE(w.setCharacterRoot(victim, p, nan).isOk());
             EXPECT_FALSE(w.setCharacterRoot(victim, nullptr, 0.0).isOk());
-            for (double dt : {nan, -kDt, 0.0, 1.0, inf}) {
+            for (double dt : {nan, -kFrameDt, 0.0, 1.0, inf}) {
                 const Status s = w.step(dt);
                 EXPECT_FALSE(s.isOk()) << dt;
                 EXPECT_NE(s.message().find("dt"), std::string::npos) << s.message();
@@ -92,8 +92,8 @@ TEST(FaultIsolation, BadInputForOneCharacterIsRefusedByNameAndLeavesTheOthersBit
             ASSERT_FALSE(asset.isOk());
             EXPECT_NE(asset.status().message().find("stretchStiffness"), std::string::npos) << asset.status().message();
         }
-        ASSERT_TRUE(clean.world->step(kDt).isOk());
-        ASSERT_TRUE(w.step(kDt).isOk());
+        ASSERT_TRUE(clean.world->step(kFrameDt).isOk());
+        ASSERT_TRUE(w.step(kFrameDt).isOk());
         for (int i = 0; i < kCharacters; ++i) {
             const std::vector<float> a = renderPositions(*clean.world, clean.crowd.garments[i]);
             const std::vector<float> b = renderPositions(w, faulty.crowd.garments[i]);

@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 
 using test::WorldPtr;
 
-WorldPtr makeWorld() {
+WorldPtr makeFittingWorld() {
     WorldDesc d;
     d.fixedCostModel = true;
     return WorldPtr(World::create(d).value());
@@ -48,7 +48,7 @@ Result<ClothAssetDesc> fitOn(World& world, BodyId body, const ClothAssetDesc& de
 }
 
 TEST(GarmentFit, SizesDeriveFromTheBody) {
-    WorldPtr world = makeWorld();
+    WorldPtr world = makeFittingWorld();
     MannequinDesc wide;
     wide.hipWidth = 0.44, wide.waistWidth = 0.38, wide.shoulderWidth = 0.5;
     MannequinDesc small;
@@ -91,7 +91,7 @@ TEST(GarmentFit, SizesDeriveFromTheBody) {
 }
 
 TEST(GarmentFit, GivenSizesAreKeptOrRefusedWhenTooSmall) {
-    WorldPtr world = makeWorld();
+    WorldPtr world = makeFittingWorld();
     const BodyId body = world->addMannequinBody({}).value();
     const BodyLandmarkDesc l = world->bodyLandmarks(body).value();
     {
@@ -138,7 +138,7 @@ TEST(GarmentFit, GivenSizesAreKeptOrRefusedWhenTooSmall) {
 }
 
 TEST(GarmentFit, BodiesGarmentsCannotFitSayWhy) {
-    WorldPtr world = makeWorld();
+    WorldPtr world = makeFittingWorld();
     // A pole carrying a box: a skinned character, but no humanoid.
     Character pole;
     pole.name = "pole";
