@@ -162,10 +162,11 @@ private:
     /// One level finer (+1) or coarser (-1) through the cooked transfers, positions and velocities.
     void transferOneLevel(int direction);
     /// Before an update against the body mesh when the last update was not (capsules, asleep) or
-    /// was at a coarser level (not a new garment's first: its fitted placement is outside): the state goes back to the level it was stepped at and out of
-    /// the mesh there, then is refined and settled again, each vertex inside leaving the body on
-    /// its neighbours' side; a state still tangled with the body starts again from its placement
-    /// (outReport.restarted). MeshSettle.cpp.
+    /// was at a coarser level (not a new garment's first: its fitted placement is outside): the
+    /// state goes back to the level it was stepped at and out of the mesh there, then is refined
+    /// and settled again, each vertex inside leaving the body on its neighbours' side; a state
+    /// still tangled with the body starts again from its placement (outReport.restarted).
+    /// MeshSettle.cpp.
     Status settleOntoMesh(CharacterInstance& character, UpdateScratch& scratch, GarmentUpdateReport& outReport);
     /// After the update that followed a settle: a garment the solve stretched to twice its length
     /// was tangled with the body in a way the settle cannot see (a coarse hem between the legs,

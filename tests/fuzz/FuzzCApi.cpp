@@ -28,7 +28,8 @@ using cc::fuzz::Input;
 
 /// A status is one of the enum's values; a failure leaves a message on the world.
 cc_status checked(cc_world* world, cc_status s, const char* call) {
-    if (int(s) < int(CC_OK) || int(s) > int(CC_OUT_OF_MEMORY)) fail(call, "returned a value outside cc_status");
+    if (int(s) < int(CC_OK) || int(s) > int(CC_OUT_OF_MEMORY))
+        fail(call, "returned a value outside cc_status");
     if (s != CC_OK && world) {
         const char* message = cc_world_last_error(world);
         if (!message || !message[0]) fail(call, "failed without a message");
@@ -58,13 +59,15 @@ Id pick(Input& in, const std::vector<Id>& ids) {
 }
 
 void checkMesh(const cc_render_mesh& m) {
-    if (m.vertex_count && (!m.positions || !m.normals)) fail("cc_world_get_render_mesh", "null arrays");
+    if (m.vertex_count && (!m.positions || !m.normals))
+        fail("cc_world_get_render_mesh", "null arrays");
     if (m.triangle_count && !m.indices) fail("cc_world_get_render_mesh", "null indices");
     for (uint32_t i = 0; i < 3 * m.vertex_count; ++i)
         if (!std::isfinite(m.positions[i]) || !std::isfinite(m.normals[i]))
             fail("cc_world_get_render_mesh", "a non-finite vertex");
     for (uint32_t i = 0; i < 3 * m.triangle_count; ++i)
-        if (m.indices[i] >= m.vertex_count) fail("cc_world_get_render_mesh", "an index past the vertices");
+        if (m.indices[i] >= m.vertex_count)
+            fail("cc_world_get_render_mesh", "an index past the vertices");
 }
 
 void addAsset(Input& in, cc_world* w, std::vector<cc_asset_id>& assets) {
@@ -101,16 +104,18 @@ void addBody(Input& in, cc_world* w, std::vector<cc_body_id>& bodies) {
         m.version = version(in);
         m.height = in.real(1.0, 2.5);
         m.limb_girth = in.real(0.6, 1.6);
-        s = checked(w, cc_world_add_mannequin_body(w, in.byte() % 16 ? &m : nullptr, &id), "cc_world_add_mannequin_body");
-    } else {  // a host-skinned body with any mesh, stride and counts
+        s = checked(w, cc_world_add_mannequin_body(w, in.byte() % 16 ? &m : nullptr, &id),
+                    "cc_world_add_mannequin_body");
+    } else { // a host-skinned body with any mesh, stride and counts
         const uint32_t n = in.byte() % 12, t = in.byte() % 12;
         std::vector<float> v(4 * n + 4);
         for (float& x : v) x = float(in.real(-1.0, 1.0));
         std::vector<uint32_t> tri(3 * t + 3);
         for (uint32_t& i : tri) i = in.byte() % (n + 2);
         const uint32_t stride = in.byte() % 4 == 0 ? in.byte() % 20 : 12;
-        s = checked(w, cc_world_add_skinned_body(w, in.byte() % 16 ? v.data() : nullptr, n, stride,
-                                                 in.byte() % 16 ? tri.data() : nullptr, t, &id),
+        s = checked(w,
+                    cc_world_add_skinned_body(w, in.byte() % 16 ? v.data() : nullptr, n, stride,
+                                              in.byte() % 16 ? tri.data() : nullptr, t, &id),
                     "cc_world_add_skinned_body");
     }
     if (s == CC_OK) bodies.push_back(id);
@@ -123,22 +128,27 @@ void readBody(Input& in, cc_world* w, const std::vector<cc_body_id>& bodies) {
                 "cc_world_get_body_clip_count") != CC_OK)
         return;
     const char* name = nullptr;
-    if (checked(w, cc_world_get_body_clip_name(w, body, in.byte() % (clips + 2), &name), "cc_world_get_body_clip_name") ==
-            CC_OK &&
+    if (checked(w, cc_world_get_body_clip_name(w, body, in.byte() % (clips + 2), &name),
+                "cc_world_get_body_clip_name") == CC_OK &&
         (!name || std::strlen(name) > 4096))
         fail("cc_world_get_body_clip_name", "no name or an unterminated one");
     cc_body_landmarks l;
     cc_body_landmarks_init(&l);
-    if (checked(w, cc_world_get_body_landmarks(w, body, &l), "cc_world_get_body_landmarks") != CC_OK) return;
-    if (in.byte() % 2) {  // handed back, changed
+    if (checked(w, cc_world_get_body_landmarks(w, body, &l), "cc_world_get_body_landmarks") !=
+        CC_OK)
+        return;
+    if (in.byte() % 2) { // handed back, changed
         l.version = version(in);
-        double* measures[] = {&l.neck_y, &l.shoulder_y, &l.waist_y, &l.hip_girth, &l.shoulder_width, &l.forward[0]};
+        double* measures[] = {&l.neck_y,    &l.shoulder_y,     &l.waist_y,
+                              &l.hip_girth, &l.shoulder_width, &l.forward[0]};
         *measures[in.byte() % 6] = in.real(-1.0, 3.0);
-        (void)checked(w, cc_world_set_body_landmarks(w, body, in.byte() % 16 ? &l : nullptr), "cc_world_set_body_landmarks");
+        (void)checked(w, cc_world_set_body_landmarks(w, body, in.byte() % 16 ? &l : nullptr),
+                      "cc_world_set_body_landmarks");
     }
 }
 
-void addCharacter(Input& in, cc_world* w, const std::vector<cc_body_id>& bodies, std::vector<cc_character_id>& characters) {
+void addCharacter(Input& in, cc_world* w, const std::vector<cc_body_id>& bodies,
+                  std::vector<cc_character_id>& characters) {
     cc_character_desc c;
     cc_character_desc_init(&c);
     c.version = version(in);
@@ -152,12 +162,14 @@ void addCharacter(Input& in, cc_world* w, const std::vector<cc_body_id>& bodies,
     c.position[0] = in.real(-50.0, 50.0);
     c.yaw = in.real(-7.0, 7.0);
     cc_character_id id{};
-    if (checked(w, cc_world_add_character(w, in.byte() % 16 ? &c : nullptr, &id), "cc_world_add_character") == CC_OK)
+    if (checked(w, cc_world_add_character(w, in.byte() % 16 ? &c : nullptr, &id),
+                "cc_world_add_character") == CC_OK)
         characters.push_back(id);
 }
 
 void addGarment(Input& in, cc_world* w, const std::vector<cc_asset_id>& assets,
-                const std::vector<cc_character_id>& characters, std::vector<cc_garment_id>& garments) {
+                const std::vector<cc_character_id>& characters,
+                std::vector<cc_garment_id>& garments) {
     cc_garment_desc g;
     cc_garment_desc_init(&g);
     g.version = version(in);
@@ -165,7 +177,9 @@ void addGarment(Input& in, cc_world* w, const std::vector<cc_asset_id>& assets,
     g.force_level = int32_t(in.byte() % 6) - 2;
     g.inertia_scale = in.real(0.0, 2.0);
     cc_garment_id id{};
-    if (checked(w, cc_world_add_garment(w, pick(in, assets), pick(in, characters), in.byte() % 16 ? &g : nullptr, &id),
+    if (checked(w,
+                cc_world_add_garment(w, pick(in, assets), pick(in, characters),
+                                     in.byte() % 16 ? &g : nullptr, &id),
                 "cc_world_add_garment") == CC_OK)
         garments.push_back(id);
 }
@@ -175,19 +189,23 @@ void changeCharacter(Input& in, cc_world* w, const std::vector<cc_character_id>&
     switch (in.byte() % 4) {
     case 0: {
         const double p[3] = {in.real(-50.0, 50.0), in.real(-1.0, 1.0), in.real(-50.0, 50.0)};
-        (void)checked(w, cc_world_set_character_root(w, c, in.byte() % 16 ? p : nullptr, in.real(-7.0, 7.0)),
-                      "cc_world_set_character_root");
+        (void)checked(
+            w, cc_world_set_character_root(w, c, in.byte() % 16 ? p : nullptr, in.real(-7.0, 7.0)),
+            "cc_world_set_character_root");
         break;
     }
     case 1:
-        (void)checked(w, cc_world_set_character_playback_rate(w, c, in.real(0.0, 10.0)), "cc_world_set_character_playback_rate");
+        (void)checked(w, cc_world_set_character_playback_rate(w, c, in.real(0.0, 10.0)),
+                      "cc_world_set_character_playback_rate");
         break;
     case 2: {
         const uint32_t n = in.byte() % 12;
         std::vector<float> v(4 * n + 4);
         for (float& x : v) x = float(in.real(-1.0, 1.0));
         const uint32_t stride = in.byte() % 4 == 0 ? in.byte() % 20 : 12;
-        (void)checked(w, cc_world_set_character_skinned_vertices(w, c, in.byte() % 16 ? v.data() : nullptr, n, stride),
+        (void)checked(w,
+                      cc_world_set_character_skinned_vertices(
+                          w, c, in.byte() % 16 ? v.data() : nullptr, n, stride),
                       "cc_world_set_character_skinned_vertices");
         break;
     }
@@ -205,13 +223,19 @@ void setView(Input& in, cc_world* w) {
             for (double& x : camera.view_projection) x = in.byte() % 2 ? in.real(-2.0, 2.0) : x;
             camera.viewport_width = in.real(1.0, 4000.0);
         }
-        const uint32_t count = in.byte() % 4;  // 3: more than the array holds, with a null pointer
-        (void)checked(w, cc_world_set_cameras(w, count == 3 ? nullptr : cameras, count), "cc_world_set_cameras");
+        const uint32_t count = in.byte() % 4; // 3: more than the array holds, with a null pointer
+        (void)checked(w, cc_world_set_cameras(w, count == 3 ? nullptr : cameras, count),
+                      "cc_world_set_cameras");
         break;
     }
-    case 1: (void)checked(w, cc_world_set_frame_budget(w, in.real(0.0, 50.0)), "cc_world_set_frame_budget"); break;
+    case 1:
+        (void)checked(w, cc_world_set_frame_budget(w, in.real(0.0, 50.0)),
+                      "cc_world_set_frame_budget");
+        break;
     default:
-        (void)checked(w, cc_world_set_shadow_check(w, in.byte() % 3, in.real(0.05, 1.0), in.byte() % 8, in.byte() % 8),
+        (void)checked(w,
+                      cc_world_set_shadow_check(w, in.byte() % 3, in.real(0.05, 1.0), in.byte() % 8,
+                                                in.byte() % 8),
                       "cc_world_set_shadow_check");
         break;
     }
@@ -232,46 +256,58 @@ void step(Input& in, cc_world* w, const std::vector<cc_garment_id>& garments) {
         const uint32_t tasks = cc_world_step_task_count(w);
         const uint32_t start = tasks ? in.byte() % tasks : 0;
         const bool sloppy = tasks > 1 && in.byte() % 8 == 0;
-        for (uint32_t k = sloppy ? 1 : 0; k < tasks; ++k)  // a rotation: each task once
-            if (cc_world_run_step_task(w, (start + k) % tasks) != CC_OK) fail("cc_world_run_step_task", "refused a task");
+        for (uint32_t k = sloppy ? 1 : 0; k < tasks; ++k) // a rotation: each task once
+            if (cc_world_run_step_task(w, (start + k) % tasks) != CC_OK)
+                fail("cc_world_run_step_task", "refused a task");
         if (sloppy && cc_world_run_step_task(w, (start + 1) % tasks) == CC_OK)
             fail("cc_world_run_step_task", "ran a task twice in one phase");
         skipped = skipped || sloppy;
-        if (cc_world_run_step_task(w, tasks + in.byte() % 4) == CC_OK) fail("cc_world_run_step_task", "ran a task past the count");
+        if (cc_world_run_step_task(w, tasks + in.byte() % 4) == CC_OK)
+            fail("cc_world_run_step_task", "ran a task past the count");
         if (in.byte() % 8 == 0 &&
-            (checked(w, cc_world_remove_garment(w, pick(in, garments)), "cc_world_remove_garment mid-step") == CC_OK ||
+            (checked(w, cc_world_remove_garment(w, pick(in, garments)),
+                     "cc_world_remove_garment mid-step") == CC_OK ||
              checked(w, cc_world_step(w, dt), "cc_world_step mid-step") == CC_OK))
             fail("a call mid-step", "was carried out between begin_step and end_step");
         if (!cc_world_next_step_phase(w)) break;
     }
     const cc_status end = checked(w, cc_world_end_step(w), "cc_world_end_step");
-    if (skipped && end != CC_INVALID_OPERATION) fail("cc_world_end_step", "did not report the skipped task");
+    if (skipped && end != CC_INVALID_OPERATION)
+        fail("cc_world_end_step", "did not report the skipped task");
 }
 
 void read(Input& in, cc_world* w, const std::vector<cc_garment_id>& garments) {
     const cc_garment_id g = pick(in, garments);
     cc_render_mesh mesh{};
-    if (checked(w, cc_world_get_render_mesh(w, g, in.byte() % 16 ? &mesh : nullptr), "cc_world_get_render_mesh") == CC_OK)
+    if (checked(w, cc_world_get_render_mesh(w, g, in.byte() % 16 ? &mesh : nullptr),
+                "cc_world_get_render_mesh") == CC_OK)
         checkMesh(mesh);
     cc_garment_stats stats{};
-    if (checked(w, cc_world_get_garment_stats(w, g, &stats), "cc_world_get_garment_stats") == CC_OK &&
+    if (checked(w, cc_world_get_garment_stats(w, g, &stats), "cc_world_get_garment_stats") ==
+            CC_OK &&
         !(stats.max_strain >= 0.0))
         fail("cc_world_get_garment_stats", "a negative or non-finite strain");
     cc_cloth_asset_desc fit;
     (void)checked(w, cc_world_get_garment_fit(w, g, &fit), "cc_world_get_garment_fit");
-    (void)checked(w, cc_world_set_garment_level(w, g, int32_t(in.byte() % 8) - 2), "cc_world_set_garment_level");
+    (void)checked(w, cc_world_set_garment_level(w, g, int32_t(in.byte() % 8) - 2),
+                  "cc_world_set_garment_level");
     cc_frame_stats frame{};
-    (void)checked(w, cc_world_get_frame_stats(w, in.byte() % 16 ? &frame : nullptr), "cc_world_get_frame_stats");
+    (void)checked(w, cc_world_get_frame_stats(w, in.byte() % 16 ? &frame : nullptr),
+                  "cc_world_get_frame_stats");
     const char* json = nullptr;
-    if (checked(w, cc_world_get_stats_json(w, &json), "cc_world_get_stats_json") == CC_OK && (!json || json[0] != '{'))
+    if (checked(w, cc_world_get_stats_json(w, &json), "cc_world_get_stats_json") == CC_OK &&
+        (!json || json[0] != '{'))
         fail("cc_world_get_stats_json", "not a JSON object");
     cc_shadow_check_result results[4];
     uint32_t count = 0;
     const uint32_t capacity = in.byte() % 5;
-    (void)checked(w, cc_world_get_shadow_check_results(w, capacity ? results : nullptr, capacity, &count),
-                  "cc_world_get_shadow_check_results");
-    if (count > capacity && capacity) fail("cc_world_get_shadow_check_results", "more results than the capacity");
-    if (in.byte() % 8 == 0) (void)checked(w, cc_world_remove_garment(w, g), "cc_world_remove_garment");
+    (void)checked(
+        w, cc_world_get_shadow_check_results(w, capacity ? results : nullptr, capacity, &count),
+        "cc_world_get_shadow_check_results");
+    if (count > capacity && capacity)
+        fail("cc_world_get_shadow_check_results", "more results than the capacity");
+    if (in.byte() % 8 == 0)
+        (void)checked(w, cc_world_remove_garment(w, g), "cc_world_remove_garment");
 }
 
 /// Saved and restored whole (the hash comes back), damaged (refused or taken, never a crash), and
@@ -281,16 +317,20 @@ void snapshot(Input& in, cc_world* w) {
     size_t size = 0;
     if (checked(w, cc_world_save_state(w, &data, &size), "cc_world_save_state") != CC_OK) return;
     if (!data || size == 0) fail("cc_world_save_state", "no bytes");
-    const std::vector<uint8_t> bytes(static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + size);
+    const std::vector<uint8_t> bytes(static_cast<const uint8_t*>(data),
+                                     static_cast<const uint8_t*>(data) + size);
     uint64_t before = 0, after = 0;
     (void)checked(w, cc_world_state_hash(w, &before), "cc_world_state_hash");
     std::vector<uint8_t> bad = bytes;
     bad.resize(in.byte() % 2 ? bad.size() : in.u32() % (bad.size() + 1));
     if (!bad.empty()) bad[in.u32() % bad.size()] ^= uint8_t(1 + in.byte() % 255);
-    (void)checked(w, cc_world_restore_state_mode(w, bad.data(), bad.size(), int32_t(in.byte() % 4) - 1),
-                  "cc_world_restore_state_mode");
-    if (checked(w, cc_world_restore_state(w, bytes.data(), bytes.size()), "cc_world_restore_state") != CC_OK ||
-        checked(w, cc_world_state_hash(w, &after), "cc_world_state_hash") != CC_OK || after != before)
+    (void)checked(
+        w, cc_world_restore_state_mode(w, bad.data(), bad.size(), int32_t(in.byte() % 4) - 1),
+        "cc_world_restore_state_mode");
+    if (checked(w, cc_world_restore_state(w, bytes.data(), bytes.size()),
+                "cc_world_restore_state") != CC_OK ||
+        checked(w, cc_world_state_hash(w, &after), "cc_world_state_hash") != CC_OK ||
+        after != before)
         fail("cc_world_restore_state", "the world's own snapshot did not restore it");
 }
 
