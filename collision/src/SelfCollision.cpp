@@ -216,12 +216,12 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
     sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
 }
 
-void SelfCollision::pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool escapedOnly,
+void SelfCollision::pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool markedOnly,
                                          std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                          std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
-    auto escapedEdge = [&](uint32_t e) { return mEscaped[mEdges[e][0]] || mEscaped[mEdges[e][1]]; };
+    auto markedEdge = [&](uint32_t e) { return mMarked[mEdges[e][0]] || mMarked[mEdges[e][1]]; };
     auto vertexTriangle = [&](uint32_t v, uint32_t t) {
-        if ((!escapedOnly || mEscaped[v] || mEscapedTriangle[t]) && !hasVertex(mTriangles[t], v) &&
+        if ((!markedOnly || mMarked[v] || mMarkedTriangle[t]) && !hasVertex(mTriangles[t], v) &&
             mBoxes[t].overlaps(vertexBoxes[v]))
             outVertexTriangle.push_back({v, t});
     };
@@ -233,7 +233,7 @@ void SelfCollision::pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool esca
         for (uint32_t k = 0; k < a.edgeCount; ++k)
             for (uint32_t j = 0; j < b.edgeCount; ++j) {
                 const uint32_t e = a.edges[k], f = b.edges[j];
-                if ((!escapedOnly || escapedEdge(e) || escapedEdge(f)) && !shareVertex(mEdges[e], mEdges[f]) &&
+                if ((!markedOnly || markedEdge(e) || markedEdge(f)) && !shareVertex(mEdges[e], mEdges[f]) &&
                     edgesOverlap(e, f))
                     outEdgeEdge.push_back({std::min(e, f), std::max(e, f)});
             }
@@ -262,56 +262,80 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
                                    std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                    std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
     if (!cache.valid || margin > cache.margin || cache.boxes.size() != mVertexCount) return false;
-    mEscaped.assign(mVertexCount, 0);
-    mEscapedVertices.clear();
+    mMarked.assign(mVertexCount, 0);  // escaped from its cached box
+    uint32_t escaped = 0;
     for (uint32_t v = 0; v < mVertexCount; ++v) {
         const Aabb& kept = cache.boxes[v];
         if ((vertexBoxes[v].lo.array() >= kept.lo.array()).all() && (vertexBoxes[v].hi.array() <= kept.hi.array()).all())
             continue;
-        mEscaped[v] = 1;
-        mEscapedVertices.push_back(v);
+        mMarked[v] = 1;
+        ++escaped;
     }
-    if (mEscapedVertices.size() > mVertexCount / kMaxEscapedShare) return false;
+    if (escaped > mVertexCount / kMaxEscapedShare) return false;
     hullBoxes(vertexBoxes, margin);
-    mEscapedTriangle.resize(mTriangles.size());
-    for (uint32_t t = 0; t < mTriangles.size(); ++t) {
-        const auto& tri = mTriangles[t];
-        mEscapedTriangle[t] = mEscaped[tri[0]] || mEscaped[tri[1]] || mEscaped[tri[2]];
-    }
-    auto escapedEdge = [&](uint32_t e) { return mEscaped[mEdges[e][0]] || mEscaped[mEdges[e][1]]; };
+    markTriangles();
+    auto escapedEdge = [&](uint32_t e) { return mMarked[mEdges[e][0]] || mMarked[mEdges[e][1]]; };
     outVertexTriangle.clear();
     outEdgeEdge.clear();
     // Pairs whose vertices all stayed in their cached boxes: every one that overlaps now overlapped
     // there (a larger or equal margin), so it is in the cache; the same test as candidatesOfBoxes.
     for (const auto& pair : cache.vf)
-        if (!mEscaped[pair[0]] && !mEscapedTriangle[pair[1]] && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
+        if (!mMarked[pair[0]] && !mMarkedTriangle[pair[1]] && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
             outVertexTriangle.push_back(pair);
     for (const auto& pair : cache.ee)
         if (!escapedEdge(pair[0]) && !escapedEdge(pair[1]) && edgesOverlap(pair[0], pair[1]))
             outEdgeEdge.push_back(pair);
-    if (mEscapedVertices.empty()) return true;  // sorted, as the cache's lists are
+    if (escaped == 0) return true;  // sorted, as the cache's lists are
+    // Pairs with an escaped vertex, searched.
+    appendMarkedPairs(vertexBoxes, outVertexTriangle, outEdgeEdge);
+    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
+    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+    return true;
+}
 
-    // Pairs with an escaped vertex, from one descent of the tree (refit to the current boxes)
-    // through the triangles holding one: every vertex and edge is met through its owner, which
-    // holds it, so such a pair comes from a triangle pair with an escaped triangle in it.
+void SelfCollision::markTriangles() {
+    mMarkedTriangle.resize(mTriangles.size());
+    for (uint32_t t = 0; t < mTriangles.size(); ++t) {
+        const auto& tri = mTriangles[t];
+        mMarkedTriangle[t] = mMarked[tri[0]] || mMarked[tri[1]] || mMarked[tri[2]];
+    }
+}
+
+void SelfCollision::appendMarkedPairs(Span<const Aabb> vertexBoxes,
+                                      std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                      std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    // One descent of the tree (refit to the current boxes) through the marked triangles: every
+    // vertex and edge is met through its owner, which holds it, so a pair with a marked vertex
+    // comes from a triangle pair with a marked triangle in it.
     fitTree();
     mTrianglePairs.clear();
-    mBvh.overlappingPairs(mEscapedTriangle, mTrianglePairs);
+    mBvh.overlappingPairs(mMarkedTriangle, mTrianglePairs);
     pairsOfTrianglePairs(vertexBoxes, true, outVertexTriangle, outEdgeEdge);
     std::vector<uint32_t>& hits = mHits;
     for (uint32_t v : mLoneVertices) {  // vertices of no triangle have no owner
-        if (mEscaped[v]) {
+        if (mMarked[v]) {
             hits.clear();
             mBvh.query(vertexBoxes[v], hits);
             for (uint32_t t : hits) outVertexTriangle.push_back({v, t});
         } else {
             for (uint32_t t = 0; t < mTriangles.size(); ++t)
-                if (mEscapedTriangle[t] && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
+                if (mMarkedTriangle[t] && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
         }
     }
+}
+
+void SelfCollision::changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                                      std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                                      std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
+    sweptBoxes(x0, x1);
+    mMarked.assign(mChanged.begin(), mChanged.end());
+    markTriangles();
+    hullBoxes(mVertexBoxes, margin);
+    outVertexTriangle.clear();
+    outEdgeEdge.clear();
+    appendMarkedPairs(mVertexBoxes, outVertexTriangle, outEdgeEdge);
     sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
     sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
-    return true;
 }
 
 void SelfCollision::sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
@@ -458,10 +482,14 @@ Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> vel
             keepPlane(c);
         }
     };
+    // Each triangle's normal once (a pair asks for one or two of them, and tens of pairs share a
+    // triangle).
+    mNormals.resize(mTriangles.size());
+    for (std::size_t t = 0; t < mTriangles.size(); ++t) mNormals[t] = unitNormal(x0, mTriangles[t]);
     for (const auto& pair : mUpdate.vf) {
         const auto& tri = mTriangles[pair[1]];
         const std::array<double, 3> w = closestTriangleWeights(x0[pair[0]], x0[tri[0]], x0[tri[1]], x0[tri[2]]);
-        addPair(vertexTrianglePair(pair[0], tri, w), 1, unitNormal(x0, tri));
+        addPair(vertexTrianglePair(pair[0], tri, w), 1, mNormals[pair[1]]);
     }
     for (const auto& pair : mUpdate.ee) {
         const auto& a = mEdges[pair[0]];
@@ -470,8 +498,8 @@ Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> vel
         // Closest at an end of either edge: that end's vertex-triangle pairs hold the same plane.
         if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) continue;
         // The face of either edge's first triangle that is more nearly across the pair.
-        const Vec3 na = unitNormal(x0, mTriangles[mEdgeTriangle[pair[0]]]);
-        const Vec3 nb = unitNormal(x0, mTriangles[mEdgeTriangle[pair[1]]]);
+        const Vec3& na = mNormals[mEdgeTriangle[pair[0]]];
+        const Vec3& nb = mNormals[mEdgeTriangle[pair[1]]];
         const Vec3 d = (1.0 - su[0]) * x0[a[0]] + su[0] * x0[a[1]] - (1.0 - su[1]) * x0[b[0]] - su[1] * x0[b[1]];
         addPair(edgeEdgePair(a, b, su[0], su[1]), 2, std::abs(d.dot(na)) >= std::abs(d.dot(nb)) ? na : nb);
     }
@@ -537,17 +565,20 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
                                    SelfCollisionStats& stats) {
     std::vector<std::array<uint32_t, 2>>& vf = mPairsVf;
     std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
-    sweptCandidates(x0, x1, mSettings.ccdGap, vf, ee, stats);
-    const std::size_t total = vf.size() + ee.size();
     // A pass after the first re-tests only pairs with a vertex the last pass's impulses or zones
     // moved, or one in a collision then: a test depends on its four vertices' x0 and x1 alone, so
-    // any other pair tested clear last time is clear now (and was a candidate then, as its boxes
-    // are the same). The fail-safe's dozens of passes cost little more than the first.
+    // any other pair tested clear last time is clear now. Its candidates are searched for through
+    // the triangles holding such a vertex alone (the broad phase is conservative in any frame, so
+    // a pair that collides was a candidate when it was tested). The fail-safe's dozens of passes
+    // cost little more than the first.
     mChanged.resize(mVertexCount);
     for (uint32_t v = 0; v < mVertexCount; ++v) {
         mChanged[v] = !mRetestMovedOnly || mInLastCollision[v] || !(x1[v] == mLastEnd[v]);
         mInLastCollision[v] = 0;
     }
+    if (mRetestMovedOnly) changedCandidates(x0, x1, mSettings.ccdGap, vf, ee);
+    else sweptCandidates(x0, x1, mSettings.ccdGap, vf, ee, stats);
+    const std::size_t total = vf.size() + ee.size();
     mLastEnd.assign(x1.begin(), x1.end());
     mRetestMovedOnly = true;
     std::vector<Collision>& found = mFound;
@@ -742,6 +773,9 @@ void SelfCollision::rigidifyZones(Span<const Vec3> x0, Span<Vec3> x1, const std:
 Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const double> masses,
                               SelfCollisionStats& outStats) {
     outStats = SelfCollisionStats{};
+    const bool continuesLast = mLastResolveClean && x0.size() == mResolveStart.size() &&
+                               std::equal(x0.begin(), x0.end(), mResolveStart.begin());
+    mLastResolveClean = false;
     if (x0.size() != mVertexCount || x1.size() != mVertexCount || masses.size() != mVertexCount) {
         return Status::invalidArgument("SelfCollision::resolve: expected " + std::to_string(mVertexCount) +
                                        " positions and masses, got x0 " + std::to_string(x0.size()) + ", x1 " +
@@ -761,8 +795,12 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     }
     SelfCollisionStats& stats = outStats;
     const Span<const Vec3> x1View(x1.data(), x1.size());
-    mRetestMovedOnly = false;  // findCollisions' first pass tests every pair
-    mInLastCollision.assign(mVertexCount, 0);
+    // The first pass tests every pair, unless this call continues one that ended clear from the
+    // same x0 (the fail-safe again after the strain limit moved a few vertices): then every pair
+    // whose vertices kept their x1 was tested clear by that call, and only the others are tested.
+    mRetestMovedOnly = continuesLast;
+    if (!continuesLast) mInLastCollision.assign(mVertexCount, 0);
+    mResolveStart.assign(x0.begin(), x0.end());
     if (mSettings.proximityPass) applyProximity(x0, x1, stats);
 
     std::vector<Collision>& collisions = mCollisions;
@@ -773,7 +811,10 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
         for (const Collision& c : collisions) applyImpulse(c, x0, x1);
         findCollisions(x0, x1View, collisions, stats);
     }
-    if (collisions.empty()) return Status::ok();
+    if (collisions.empty()) {
+        mLastResolveClean = true;
+        return Status::ok();
+    }
 
     // Fail-safe: rigid impact zones, merged as new collisions appear.
     stats.failSafeActivations = 1;
@@ -803,6 +844,7 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
         findCollisions(x0, x1View, collisions, stats);
     }
     stats.unresolved = static_cast<uint32_t>(collisions.size());
+    mLastResolveClean = collisions.empty();
     return Status::ok();
 }
 

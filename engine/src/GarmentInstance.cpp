@@ -223,7 +223,14 @@ Status GarmentInstance::prepare(CharacterInstance& character, UpdateScratch& scr
         planes.lookahead = std::max(context.contactLookahead, 1.0);
         planes.acceleration = context.acceleration.norm();
         planes.solverOffset = mAsset->desc.thickness;  // the batch's contactThickness
-        if (Status s = mSelf.separatingPlanes(mStepStart, mVelocities, context.dt, planes, mContacts); !s) return s;
+        gatherNodes(mStepStart, mSelfStart);
+        gatherNodes(mVelocities, mSelfVelocities);
+        const std::size_t first = mContacts.size();
+        if (Status s = mSelf.separatingPlanes(mSelfStart, mSelfVelocities, context.dt, planes, mContacts); !s)
+            return s;
+        // A node's plane holds the node in the solve, named by its first copy.
+        const auto& vertexOfNode = mAsset->levels[mLevel].cloth->vertexOfNode();
+        for (std::size_t c = first; c < mContacts.size(); ++c) mContacts[c].vertex = vertexOfNode[mContacts[c].vertex];
         outReport.selfCollisionMs = msSince(selfStart);
     }
     outReport.contacts = uint32_t(mContacts.size());
@@ -231,16 +238,34 @@ Status GarmentInstance::prepare(CharacterInstance& character, UpdateScratch& scr
     return Status::ok();
 }
 
+void GarmentInstance::gatherNodes(const std::vector<Vec3>& values, std::vector<Vec3>& outNodes) const {
+    const auto& nodeOfVertex = mAsset->levels[mLevel].cloth->nodeOfVertex();
+    outNodes.assign(mAsset->levels[mLevel].cloth->nodeCount(), Vec3::Zero());
+    // A node of one vertex (most) takes its value bit for bit.
+    for (std::size_t v = 0; v < values.size(); ++v) {
+        if (mSelfShare[v] == 1.0) outNodes[nodeOfVertex[v]] = values[v];
+        else outNodes[nodeOfVertex[v]] += mSelfShare[v] * values[v];
+    }
+}
+
 Status GarmentInstance::resolveSelfCollision(GarmentUpdateReport& inOutReport, uint32_t* outMoved) {
-    mSwapPositions = mPositions;  // the level switch's scratch, free here
+    gatherNodes(mStepStart, mSelfStart);
+    gatherNodes(mPositions, mSelfEnd);
+    mSwapPositions = mSelfEnd;  // the level switch's scratch, free here
     collision::SelfCollisionStats selfStats;
-    if (Status s = mSelf.resolve(mStepStart, mPositions, mSelfMasses, selfStats); !s) return s;
+    if (Status s = mSelf.resolve(mSelfStart, mSelfEnd, mSelfMasses, selfStats); !s) return s;
     inOutReport.failSafes += selfStats.failSafeActivations;
     if (outMoved) mMoved.assign(mPositions.size(), 0);
+    // Every copy goes where its node went; the corrections, and the copies' joining where the
+    // body's pushes parted them, are impulses.
+    const auto& nodeOfVertex = mAsset->levels[mLevel].cloth->nodeOfVertex();
     for (std::size_t v = 0; v < mPositions.size(); ++v) {
-        if (mPositions[v] == mSwapPositions[v]) continue;
-        mVelocities[v] += (mPositions[v] - mSwapPositions[v]) / context.dt;
-        if (outMoved) {
+        const uint32_t n = nodeOfVertex[v];
+        if (!(mPositions[v] == mSelfEnd[n])) {
+            mVelocities[v] += (mSelfEnd[n] - mPositions[v]) / context.dt;
+            mPositions[v] = mSelfEnd[n];
+        }
+        if (outMoved && !(mSelfEnd[n] == mSwapPositions[n])) {
             mMoved[v] = 1;
             ++*outMoved;
         }
@@ -251,18 +276,41 @@ Status GarmentInstance::resolveSelfCollision(GarmentUpdateReport& inOutReport, u
 Status GarmentInstance::prepareSelfCollision() {
     if (mSelfLevel == mLevel) return Status::ok();
     const CookedLevel& level = mAsset->levels[mLevel];
+    const cloth::ClothLevel& nodes = *level.cloth;
     collision::SelfCollisionSettings settings;
     settings.thickness = 0.5 * mAsset->desc.thickness;
     settings.ccdGap = std::min(settings.ccdGap, settings.thickness);
     settings.proximityPass = false;  // the solve's separating planes keep pairs apart
     settings.parallel.maxThreads = 1;
-    auto made = collision::SelfCollision::create(level.active.mesh.triangles, uint32_t(level.active.mesh.vertexCount()),
-                                                 settings);
+    // The surface over the nodes: a seam's copies are one point, so the two sides of a seam are
+    // neighbours (not a pair kept apart, and not parted by an average after the resolve).
+    std::vector<std::array<uint32_t, 3>> triangles;
+    triangles.reserve(level.active.mesh.triangles.size());
+    const auto& nodeOfVertex = nodes.nodeOfVertex();
+    for (const auto& tri : level.active.mesh.triangles) {
+        const std::array<uint32_t, 3> t{nodeOfVertex[tri[0]], nodeOfVertex[tri[1]], nodeOfVertex[tri[2]]};
+        if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) triangles.push_back(t);
+    }
+    auto made = collision::SelfCollision::create(triangles, nodes.nodeCount(), settings);
     if (!made.isOk()) return made.status();
     mSelf = std::move(made).value();
     mSelfLevel = mLevel;
-    mSelfMasses = level.active.masses;
-    for (const AttachedVertex& a : level.attached) mSelfMasses[a.sim] = 0.0; // driven by the body
+    mSelfMasses.assign(nodes.nodeCount(), 0.0);  // attached nodes are driven by the body
+    for (uint32_t n = 0; n < nodes.freeNodeCount(); ++n) mSelfMasses[n] = nodes.nodeMasses()[n];
+    // Each copy's weight in its node's mean: its share of the node's mass.
+    std::vector<double> nodeMass(nodes.nodeCount(), 0.0);
+    std::vector<uint32_t> copies(nodes.nodeCount(), 0);
+    for (std::size_t v = 0; v < nodeOfVertex.size(); ++v) {
+        nodeMass[nodeOfVertex[v]] += level.active.masses[v];
+        ++copies[nodeOfVertex[v]];
+    }
+    mSelfShare.resize(nodeOfVertex.size());
+    for (std::size_t v = 0; v < nodeOfVertex.size(); ++v) {
+        const uint32_t n = nodeOfVertex[v];
+        mSelfShare[v] = copies[n] == 1     ? 1.0
+                        : nodeMass[n] > 0.0 ? level.active.masses[v] / nodeMass[n]
+                                            : 1.0 / copies[n];
+    }
     return Status::ok();
 }
 

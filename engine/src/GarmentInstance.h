@@ -187,10 +187,15 @@ private:
     /// The fitted placement, carried by the torso's skin to the character's pose, at the current
     /// level and at rest (a new garment, and one whose state was found tangled with the body).
     Status placeAtRest(CharacterInstance& character);
-    /// Makes mSelf (and mSelfMasses) for the current level if it is for another.
+    /// Makes mSelf (and mSelfMasses) for the current level if it is for another: over the solver's
+    /// nodes, where a seam's or a tube's wrap's copies are one point.
     Status prepareSelfCollision();
+    /// Per node, the mass-weighted mean of its vertices' `values` (the copies the body's pushes
+    /// may have parted), into `outNodes`.
+    void gatherNodes(const std::vector<Vec3>& values, std::vector<Vec3>& outNodes) const;
     /// mSelf's resolve from the step's start to the positions now, its corrections as impulses;
-    /// with outMoved, flags the vertices it moved in mMoved and counts them.
+    /// with outMoved, flags the vertices it moved in mMoved and counts them. Every copy of a node
+    /// ends where the node does.
     Status resolveSelfCollision(GarmentUpdateReport& inOutReport, uint32_t* outMoved);
     void localRenderPositions(std::vector<Vec3>& out) const;
     void refreshLocalRender();
@@ -228,9 +233,11 @@ private:
     std::vector<double> mMargins;           ///< per vertex: how far a contact query looks for the body
     cloth::SubstepWorkspace mLimitWork;     ///< the strain limit after the body's corrections
     std::vector<Vec3> mStepStart;           ///< positions before the solve
-    collision::SelfCollision mSelf;         ///< for the current level, made on first need
+    collision::SelfCollision mSelf;         ///< for the current level's nodes, made on first need
     int mSelfLevel = -1;
-    std::vector<double> mSelfMasses;        ///< 0 for vertices driven by the body
+    std::vector<double> mSelfMasses;        ///< per node; 0 for nodes driven by the body
+    std::vector<double> mSelfShare;         ///< per vertex: its weight in its node's mean (1 alone)
+    std::vector<Vec3> mSelfStart, mSelfEnd, mSelfVelocities;  ///< per node
     std::vector<uint32_t> mRenderIndices;
 };
 

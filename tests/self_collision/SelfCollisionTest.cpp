@@ -339,6 +339,50 @@ TEST(SelfCollision, ResolveAfterTheSeparatingPlanesGivesTheResultOfItsOwnSearch)
     }
 }
 
+TEST(SelfCollision, AResolveAfterACleanOneFromTheSameStartTestsOnlyWhatMovedSince) {
+    // The engine resolves, lets the strain limit move a few vertices, and resolves again from the
+    // same x0: the second call tests only pairs with a vertex that moved since the first ended
+    // clear, and must give the result, bit for bit, of a collider that tests everything.
+    const TwoLayers s(12, 0.004);
+    const uint32_t n = static_cast<uint32_t>(s.x0.size());
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> speed(-0.1, 0.1);
+    std::bernoulli_distribution through(0.05);
+    std::vector<Vec3> x1(n);
+    for (uint32_t v = 0; v < n; ++v) {
+        x1[v] = s.x0[v] + Vec3(speed(random), speed(random), speed(random)) / 60.0;
+        if (through(random)) x1[v].z() += v < n / 2 ? 0.01 : -0.01;  // through the other layer
+    }
+    const std::vector<double> masses(n, 1.0);
+    SelfCollision continuing = makeSelf(s.tris, n);
+    SelfCollisionStats first;
+    ASSERT_TRUE(continuing.resolve(s.x0, x1, masses, first).isOk());
+    ASSERT_GT(first.firstPassCollisions, 0u);
+    ASSERT_EQ(first.unresolved, 0u);
+    // A few vertices of the upper layer pulled back down through the lower one.
+    std::vector<Vec3> moved = x1;
+    for (uint32_t v = n / 2; v < n; v += 41) moved[v].z() = -0.01;
+    std::vector<Vec3> x1Continued = moved, x1Fresh = moved;
+    SelfCollision fresh = makeSelf(s.tris, n);
+    SelfCollisionStats continued, alone;
+    ASSERT_TRUE(continuing.resolve(s.x0, x1Continued, masses, continued).isOk());
+    ASSERT_TRUE(fresh.resolve(s.x0, x1Fresh, masses, alone).isOk());
+    EXPECT_GT(alone.firstPassCollisions, 0u);
+    EXPECT_EQ(continued.firstPassCollisions, alone.firstPassCollisions);
+    EXPECT_EQ(x1Continued, x1Fresh);
+    EXPECT_LT(continued.ccdTests, alone.ccdTests / 2);
+    // From another start it tests everything again.
+    std::vector<Vec3> otherStart = s.x0;
+    otherStart[0].x() += 1e-6;
+    std::vector<Vec3> x1Other = moved, x1OtherFresh = moved;
+    SelfCollision otherFresh = makeSelf(s.tris, n);
+    SelfCollisionStats other, otherAlone;
+    ASSERT_TRUE(continuing.resolve(otherStart, x1Other, masses, other).isOk());
+    ASSERT_TRUE(otherFresh.resolve(otherStart, x1OtherFresh, masses, otherAlone).isOk());
+    EXPECT_EQ(other.ccdTests, otherAlone.ccdTests);
+    EXPECT_EQ(x1Other, x1OtherFresh);
+}
+
 TEST(SelfCollision, BadInputNamesTheProblem) {
     TwoTriangles s;
     SelfCollision self = makeSelf(s.tris, 6);

@@ -149,7 +149,7 @@ private:
                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// The same lists as candidatesOfBoxes(vertexBoxes, margin) from a cache whose boxes hold most of
     /// these: its pairs filtered, and a search for the pairs of the few vertices that left their
-    /// cached box. False, writing nothing, when the cache cannot serve.
+    /// cached box (marked). False, writing nothing, when the cache cannot serve.
     bool pairsFromCache(const PairCache& cache, Span<const Aabb> vertexBoxes, double margin,
                         std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                         std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
@@ -163,13 +163,24 @@ private:
     /// margin), the same whichever is named first.
     bool edgesOverlap(uint32_t e, uint32_t f) const;
     /// The vertex-triangle and edge-edge pairs of mTrianglePairs (each through its owners) whose
-    /// boxes overlap; with `escapedOnly`, only those with an escaped vertex (pairsFromCache).
-    void pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool escapedOnly,
+    /// boxes overlap; with `markedOnly`, only those with a vertex in mMarked.
+    void pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool markedOnly,
                               std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                               std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// Sorts pairs (first index below firstCount, second below secondCount), without allocating
     /// once warm.
     void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount, uint32_t secondCount);
+    /// mMarkedTriangle from mMarked: 1 = holds a marked vertex.
+    void markTriangles();
+    /// Appends the pairs with a marked vertex whose boxes (of the last hullBoxes()) overlap: one
+    /// descent of the tree through the marked triangles. Unsorted.
+    void appendMarkedPairs(Span<const Aabb> vertexBoxes, std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                           std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
+    /// The candidates of findCollisions()'s later passes: the pairs with a vertex in mChanged whose
+    /// swept boxes, grown by margin, overlap; sorted.
+    void changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+                           std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+                           std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// candidates(x0, x1, margin): from the pairs separatingPlanes() found for the same x0 where
     /// they serve, else a new search (counted in stats.broadPhases).
     void sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
@@ -204,14 +215,16 @@ private:
     std::vector<Aabb> mBoxes, mEdgeBoxes, mGrownEdgeBoxes;
     std::vector<uint32_t> mHits;
     std::vector<Vec3> mReachEnd;                              ///< separatingPlanes: x0 + lookahead motion
+    std::vector<Vec3> mNormals;                               ///< separatingPlanes: per triangle at x0
     std::vector<std::array<uint32_t, 2>> mPairsVf, mPairsEe;  ///< applyProximity's, findCollisions' candidates
     std::vector<Aabb> mVertexBoxes;
     // separatingPlanes(): the update's pairs, which resolve() filters for the same x0.
     PairCache mUpdate;
     std::vector<Vec3> mUpdateStart;  ///< the x0 mUpdate is for
-    std::vector<uint8_t> mEscaped;   ///< pairsFromCache: per vertex, 1 = outside its cached box
-    std::vector<uint8_t> mEscapedTriangle;  ///< pairsFromCache: per triangle, 1 = holds an escaped vertex
-    std::vector<uint32_t> mEscapedVertices;
+    /// Per vertex, 1 = its pairs are searched in the tree: it left its cached box (pairsFromCache)
+    /// or moved since findCollisions()' last pass (changedCandidates).
+    std::vector<uint8_t> mMarked;
+    std::vector<uint8_t> mMarkedTriangle;  ///< per triangle, 1 = holds a marked vertex
     std::vector<Contact> mPlanes;       ///< separatingPlanes: kPlanesPerVertex slots per vertex
     std::vector<uint8_t> mPlaneCount;   ///< slots in use per vertex
     std::vector<uint32_t> mZoneParent;  ///< union-find over vertices, root = smallest index
@@ -225,6 +238,9 @@ private:
     std::vector<Vec3> mLastEnd;               ///< x1 of the last pass
     std::vector<uint8_t> mInLastCollision;    ///< per vertex: in one of the last pass's collisions
     std::vector<uint8_t> mChanged;            ///< per vertex: to re-test this pass
+    // The last resolve(): its x0, and whether it ended with no collision left.
+    std::vector<Vec3> mResolveStart;
+    bool mLastResolveClean = false;
 };
 
 } // namespace cc::collision
