@@ -152,12 +152,16 @@ Status GarmentInstance::settleLevel(UpdateScratch& scratch, uint32_t& outStillIn
         scratch.directions.clear();
         for (uint32_t v : scratch.vertices) scratch.directions.push_back(scratch.sides[v]);
         scratch.sideTraces.resize(scratch.vertices.size());
-        if (Status s = context.collider->traceRays(scratch.origins, scratch.directions, scratch.sideTraces); !s) return s;
+        if (Status s = context.collider->traceRays(scratch.origins, scratch.directions,
+                                                   scratch.sideTraces);
+            !s)
+            return s;
         mMoved.assign(n, 0);
         uint32_t moved = 0;
         for (std::size_t k = 0; k < scratch.vertices.size(); ++k) {
             if (scratch.sideTraces[k].firstExit < 0.0) continue;
-            mPositions[scratch.vertices[k]] += (scratch.sideTraces[k].firstExit + response.thickness) * scratch.directions[k];
+            mPositions[scratch.vertices[k]] +=
+                (scratch.sideTraces[k].firstExit + response.thickness) * scratch.directions[k];
             mMoved[scratch.vertices[k]] = 1, ++moved;
         }
         // The rest to their nearest surface.
@@ -169,10 +173,15 @@ Status GarmentInstance::settleLevel(UpdateScratch& scratch, uint32_t& outStillIn
             scratch.origins.push_back(mPositions[v]);
         }
         if (!scratch.vertices.empty()) {
-            if (Status s = scratch.contacts.gather(colliders, scratch.origins, scratch.origins, settings, mContacts); !s) return s;
+            if (Status s = scratch.contacts.gather(colliders, scratch.origins, scratch.origins,
+                                                   settings, mContacts);
+                !s)
+                return s;
             for (Contact& c : mContacts) c.vertex = scratch.vertices[c.vertex];  // still sorted by vertex
             uint32_t pushed = 0;
-            if (Status s = cloth::resolveContacts(mContacts, response, cloth, mPositions, mVelocities, &pushed, mMoved); !s)
+            if (Status s = cloth::resolveContacts(mContacts, response, cloth, mPositions,
+                                                  mVelocities, &pushed, mMoved);
+                !s)
                 return s;
             moved += pushed;
         }

@@ -29,7 +29,8 @@ Status WorldDesc::validate() const {
     if (solverIterations < 1 || solverIterations > 100)
         return Status::invalidArgument("WorldDesc.solverIterations must be in [1, 100]");
     if (batchSize < 1 || batchSize > uint32_t(cloth::kMaxSubstepLanes))
-        return Status::invalidArgument("WorldDesc.batchSize must be in [1, " + std::to_string(cloth::kMaxSubstepLanes) + "]");
+        return Status::invalidArgument("WorldDesc.batchSize must be in [1, " +
+                                       std::to_string(cloth::kMaxSubstepLanes) + "]");
     if (!(std::isfinite(strainLimit) && strainLimit >= 0.0 && strainLimit <= 10.0))
         return Status::invalidArgument("WorldDesc.strainLimit must be in [0, 10]");
     return Status::ok();
@@ -194,7 +195,8 @@ Status WorldImpl::setCharacterSkinnedVertices(CharacterId id, const float* posit
         return Status::error(StatusCode::InvalidOperation,
                              "setCharacterSkinnedVertices: this character's body is skinned by crowdcloth");
     if (count != c->body->mesh().vertexCount())
-        return Status::invalidArgument("setCharacterSkinnedVertices: " + std::to_string(count) + " vertices for a body of " +
+        return Status::invalidArgument("setCharacterSkinnedVertices: " + std::to_string(count) +
+                                       " vertices for a body of " +
                                        std::to_string(c->body->mesh().vertexCount()));
     std::vector<Vec3> world;
     if (Status s = readFloat3(positions, count, stride, "setCharacterSkinnedVertices", world); !s) return s;
@@ -306,7 +308,9 @@ Status WorldImpl::scheduleFrame(double dt) {
             for (auto detail : {lod::CollisionDetail::Mesh, lod::CollisionDetail::MeshContinuous})
                 lp.collisionCostMs[int(detail)] = std::max(0.0, predict(detail) - solve);
             // Counted in the budget wherever the scheduler turns it on (a World without it never does).
-            lp.selfCollisionCostMs = mDesc.selfCollision ? mCostModel.predictSelfCollisionMs(handle.index1, int(l), n) : 0.0;
+            lp.selfCollisionCostMs =
+                mDesc.selfCollision ? mCostModel.predictSelfCollisionMs(handle.index1, int(l), n)
+                                    : 0.0;
             profile.levels[l] = lp;
         }
     });
@@ -346,8 +350,8 @@ Status WorldImpl::scheduleFrame(double dt) {
             s.substeps = levels[forced].substeps;
             s.iterations = levels[forced].iterations;
             // Self-collision by the forced level, not the one the scheduler would have chosen.
-            s.selfCollision = lod::wantsSelfCollision(s, forced, int(levels.size()), mRequests[i].previous.selfCollision,
-                                                      settings);
+            s.selfCollision = lod::wantsSelfCollision(
+                s, forced, int(levels.size()), mRequests[i].previous.selfCollision, settings);
         }
         mItems[i].garment->schedule = s;
     }
@@ -444,7 +448,8 @@ Status WorldImpl::step(double dt) {
 
 Status WorldImpl::beginStep(double dt) {
     if (mStepPhase != StepPhase::Idle)
-        return Status::error(StatusCode::InvalidOperation, "step: the previous step is still open (endStep() not called)");
+        return Status::error(StatusCode::InvalidOperation,
+                             "step: the previous step is still open (endStep() not called)");
     if (!(dt >= kMinStep && dt <= kMaxStep)) return Status::invalidArgument("step: dt must be in [1e-6, 0.1] s");
     mFrameStart = Clock::now();
     FrameStats& fs = mFrameStats;
@@ -584,7 +589,8 @@ void WorldImpl::recycleMeshColliders() {
     // meanwhile. (In place: there are few, and std::stable_partition would allocate.)
     std::size_t first = 0;
     for (std::size_t j = 0; j < mUpdates.size(); ++j)
-        if (needsBuild(mUpdates[j])) std::rotate(mUpdates.begin() + first++, mUpdates.begin() + j, mUpdates.begin() + j + 1);
+        if (needsBuild(mUpdates[j]))
+            std::rotate(mUpdates.begin() + first++, mUpdates.begin() + j, mUpdates.begin() + j + 1);
 }
 
 void WorldImpl::buildMeshCollider(CharacterInstance& c) {
@@ -602,8 +608,9 @@ uint32_t WorldImpl::stepTaskCount() const {
 
 Status WorldImpl::runStepTask(uint32_t index) {
     if (index >= stepTaskCount())
-        return Status::invalidArgument("runStepTask: index " + std::to_string(index) + " is not below stepTaskCount() = " +
-                                       std::to_string(stepTaskCount()));
+        return Status::invalidArgument(
+            "runStepTask: index " + std::to_string(index) +
+            " is not below stepTaskCount() = " + std::to_string(stepTaskCount()));
     if (mTaskRan[index].exchange(1, std::memory_order_relaxed) != 0)
         return Status::error(StatusCode::InvalidOperation,
                              "runStepTask: task " + std::to_string(index) + " of this phase has already run");
@@ -674,7 +681,8 @@ bool WorldImpl::nextStepPhase() {
             batch.dt = g.context.dt;
             batch.settings = g.solverSettings(keys[k].substeps, keys[k].iterations, mDesc.strainLimit);
             batch.items.clear();
-            for (std::size_t j = k; j < std::min<std::size_t>(end, k + mDesc.batchSize); ++j) batch.items.push_back(keys[j].item);
+            for (std::size_t j = k; j < std::min<std::size_t>(end, k + mDesc.batchSize); ++j)
+                batch.items.push_back(keys[j].item);
         }
     }
     fs.batches = uint32_t(mBatchCount);
@@ -690,9 +698,10 @@ bool WorldImpl::nextStepPhase() {
 Status WorldImpl::endStep() {
     if (mStepPhase != StepPhase::Finish)
         return Status::error(StatusCode::InvalidOperation,
-                             mStepPhase == StepPhase::Idle ? "endStep: no step begun (beginStep() first)"
-                                                           : "endStep: a phase's tasks are still to run (nextStepPhase() "
-                                                             "returns false after the last)");
+                             mStepPhase == StepPhase::Idle
+                                 ? "endStep: no step begun (beginStep() first)"
+                                 : "endStep: a phase's tasks are still to run (nextStepPhase() "
+                                   "returns false after the last)");
     mStepPhase = StepPhase::Idle;
     FrameStats& fs = mFrameStats;
     // A garment whose update failed keeps its state; its render mesh still follows the body.
@@ -805,7 +814,8 @@ Result<RenderMeshView> WorldImpl::characterMesh(CharacterId id) {
     for (std::size_t v = 0; v < n; ++v) {
         const Vec3 p = c->toWorld(c->skinnedPositions[v]);
         const Vec3 nrm = rotation * normals[v].normalized();
-        for (int k = 0; k < 3; ++k) c->drawPositions[3 * v + k] = float(p[k]), c->drawNormals[3 * v + k] = float(nrm[k]);
+        for (int k = 0; k < 3; ++k)
+            c->drawPositions[3 * v + k] = float(p[k]), c->drawNormals[3 * v + k] = float(nrm[k]);
     }
     if (c->drawIndices.empty())
         for (const auto& t : mesh.triangles) c->drawIndices.insert(c->drawIndices.end(), t.begin(), t.end());
