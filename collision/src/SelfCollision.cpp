@@ -58,6 +58,10 @@ Status SelfCollisionSettings::validate() const {
         return Status::invalidArgument("SelfCollisionSettings.zoneIterations must be >= 1, got " +
                                        std::to_string(zoneIterations));
     }
+    if (maxPairsPerTriangle < 1) {
+        return Status::invalidArgument("SelfCollisionSettings.maxPairsPerTriangle must be >= 1, got " +
+                                       std::to_string(maxPairsPerTriangle));
+    }
     return Status::ok();
 }
 
@@ -147,11 +151,11 @@ void SelfCollision::sweptBoxes(Span<const Vec3> x0, Span<const Vec3> x1) {
     }
 }
 
-void SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+bool SelfCollision::candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                                std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
     sweptBoxes(x0, x1);
-    candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
+    return candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
 }
 
 void SelfCollision::hullBoxes(Span<const Aabb> vertexBoxes, double margin) {
@@ -190,7 +194,11 @@ void SelfCollision::fitTree() {
     }
 }
 
-void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
+std::size_t SelfCollision::maxTrianglePairs() const {
+    return std::size_t(mSettings.maxPairsPerTriangle) * mTriangles.size();
+}
+
+bool SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
                                       std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                       std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
     outVertexTriangle.clear();
@@ -203,7 +211,10 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
     // that overlaps is found through its owners' pair, once (adjacent primitives share a triangle
     // or a vertex and are skipped). Vertices of no triangle ask the tree themselves.
     mTrianglePairs.clear();
-    mBvh.overlappingPairs(mTrianglePairs);
+    // A crumpled garment (a coarse level's fold prolonged to a fine one) meets tens of times the
+    // pairs of any cloth surface: past the cap it is left to itself, at a bounded cost.
+    mCrowded = !mBvh.overlappingPairs(mTrianglePairs, maxTrianglePairs());
+    if (mCrowded) return false;
     pairsOfTrianglePairs(vertexBoxes, false, outVertexTriangle, outEdgeEdge);
     std::vector<uint32_t>& hits = mHits;
     for (uint32_t v : mLoneVertices) {
@@ -214,6 +225,7 @@ void SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
     // Sorted (each pair is found once): results do not depend on the tree's order.
     sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
     sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+    return true;
 }
 
 void SelfCollision::pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool markedOnly,
@@ -287,7 +299,11 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
             outEdgeEdge.push_back(pair);
     if (escaped == 0) return true;  // sorted, as the cache's lists are
     // Pairs with an escaped vertex, searched.
-    appendMarkedPairs(vertexBoxes, outVertexTriangle, outEdgeEdge);
+    if (!appendMarkedPairs(vertexBoxes, outVertexTriangle, outEdgeEdge)) {
+        outVertexTriangle.clear();
+        outEdgeEdge.clear();
+        return false;
+    }
     sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
     sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
     return true;
@@ -301,7 +317,7 @@ void SelfCollision::markTriangles() {
     }
 }
 
-void SelfCollision::appendMarkedPairs(Span<const Aabb> vertexBoxes,
+bool SelfCollision::appendMarkedPairs(Span<const Aabb> vertexBoxes,
                                       std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                       std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
     // One descent of the tree (refit to the current boxes) through the marked triangles: every
@@ -309,7 +325,8 @@ void SelfCollision::appendMarkedPairs(Span<const Aabb> vertexBoxes,
     // comes from a triangle pair with a marked triangle in it.
     fitTree();
     mTrianglePairs.clear();
-    mBvh.overlappingPairs(mMarkedTriangle, mTrianglePairs);
+    mCrowded = !mBvh.overlappingPairs(mMarkedTriangle, mTrianglePairs, maxTrianglePairs());
+    if (mCrowded) return false;
     pairsOfTrianglePairs(vertexBoxes, true, outVertexTriangle, outEdgeEdge);
     std::vector<uint32_t>& hits = mHits;
     for (uint32_t v : mLoneVertices) {  // vertices of no triangle have no owner
@@ -322,9 +339,10 @@ void SelfCollision::appendMarkedPairs(Span<const Aabb> vertexBoxes,
                 if (mMarkedTriangle[t] && mBoxes[t].overlaps(vertexBoxes[v])) outVertexTriangle.push_back({v, t});
         }
     }
+    return true;
 }
 
-void SelfCollision::changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+bool SelfCollision::changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                                       std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                       std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
     sweptBoxes(x0, x1);
@@ -333,20 +351,21 @@ void SelfCollision::changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, 
     hullBoxes(mVertexBoxes, margin);
     outVertexTriangle.clear();
     outEdgeEdge.clear();
-    appendMarkedPairs(mVertexBoxes, outVertexTriangle, outEdgeEdge);
+    if (!appendMarkedPairs(mVertexBoxes, outVertexTriangle, outEdgeEdge)) return false;
     sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
     sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+    return true;
 }
 
-void SelfCollision::sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+bool SelfCollision::sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                                     std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                     std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats) {
     sweptBoxes(x0, x1);
     const bool sameStart =
         mUpdate.valid && x0.size() == mUpdateStart.size() && std::equal(x0.begin(), x0.end(), mUpdateStart.begin());
-    if (sameStart && pairsFromCache(mUpdate, mVertexBoxes, margin, outVertexTriangle, outEdgeEdge)) return;
-    candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
+    if (sameStart && pairsFromCache(mUpdate, mVertexBoxes, margin, outVertexTriangle, outEdgeEdge)) return true;
     ++stats.broadPhases;
+    return candidatesOfBoxes(mVertexBoxes, margin, outVertexTriangle, outEdgeEdge);
 }
 
 namespace {
@@ -416,7 +435,8 @@ Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> vel
         box.inflate(accelerationReach);
         mUpdate.boxes[v] = box;
     }
-    candidatesOfBoxes(mUpdate.boxes, h, mUpdate.vf, mUpdate.ee);
+    mUpdate.valid = false;
+    if (!candidatesOfBoxes(mUpdate.boxes, h, mUpdate.vf, mUpdate.ee)) return Status::ok();  // crumpled: no planes
     mUpdate.margin = h;
     mUpdate.valid = true;
     mUpdateStart.assign(x0.begin(), x0.end());
@@ -527,7 +547,10 @@ void SelfCollision::applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfColli
     std::vector<std::array<uint32_t, 2>>& vf = mPairsVf;
     std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
     const double h = mSettings.thickness;
-    candidates(x0, x0, h, vf, ee);
+    if (!candidates(x0, x0, h, vf, ee)) {
+        stats.crowded = 1;
+        return;
+    }
     // Repulsion from the start-of-step geometry, whose side of each pair is trusted: the pair's
     // relative normal motion over the step must recover `repulsionFraction` of the overlap
     // (Bridson et al. 2002, 7.2, in position form), which also stops approaching pairs.
@@ -561,7 +584,7 @@ void SelfCollision::applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfColli
     }
 }
 
-void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
+bool SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
                                    SelfCollisionStats& stats) {
     std::vector<std::array<uint32_t, 2>>& vf = mPairsVf;
     std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
@@ -576,8 +599,10 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
         mChanged[v] = !mRetestMovedOnly || mInLastCollision[v] || !(x1[v] == mLastEnd[v]);
         mInLastCollision[v] = 0;
     }
-    if (mRetestMovedOnly) changedCandidates(x0, x1, mSettings.ccdGap, vf, ee);
-    else sweptCandidates(x0, x1, mSettings.ccdGap, vf, ee, stats);
+    outCollisions.clear();
+    const bool searched = mRetestMovedOnly ? changedCandidates(x0, x1, mSettings.ccdGap, vf, ee)
+                                           : sweptCandidates(x0, x1, mSettings.ccdGap, vf, ee, stats);
+    if (!searched) return false;
     const std::size_t total = vf.size() + ee.size();
     mLastEnd.assign(x1.begin(), x1.end());
     mRetestMovedOnly = true;
@@ -685,6 +710,7 @@ void SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
         outCollisions.push_back(found[k]);
         for (uint32_t v : found[k].vertices) mInLastCollision[v] = 1;
     }
+    return true;
 }
 
 void SelfCollision::rigidifyZones(Span<const Vec3> x0, Span<Vec3> x1, const std::vector<Collision>& collisions,
@@ -770,6 +796,12 @@ void SelfCollision::rigidifyZones(Span<const Vec3> x0, Span<Vec3> x1, const std:
     }
 }
 
+Status SelfCollision::crowdedResolve(SelfCollisionStats& stats) {
+    stats.crowded = 1;
+    mLastResolveClean = false;
+    return Status::ok();
+}
+
 Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const double> masses,
                               SelfCollisionStats& outStats) {
     outStats = SelfCollisionStats{};
@@ -804,12 +836,12 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     if (mSettings.proximityPass) applyProximity(x0, x1, stats);
 
     std::vector<Collision>& collisions = mCollisions;
-    findCollisions(x0, x1View, collisions, stats);
+    if (!findCollisions(x0, x1View, collisions, stats)) return crowdedResolve(stats);
     stats.firstPassCollisions = static_cast<uint32_t>(collisions.size());
     for (int iteration = 0; iteration < mSettings.impulseIterations && !collisions.empty(); ++iteration) {
         ++stats.impulseIterations;
         for (const Collision& c : collisions) applyImpulse(c, x0, x1);
-        findCollisions(x0, x1View, collisions, stats);
+        if (!findCollisions(x0, x1View, collisions, stats)) return crowdedResolve(stats);
     }
     if (collisions.empty()) {
         mLastResolveClean = true;
@@ -824,7 +856,7 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
     for (int iteration = 0; iteration < mSettings.zoneIterations && !collisions.empty(); ++iteration) {
         ++stats.zoneIterations;
         rigidifyZones(x0, x1, collisions, stats);
-        findCollisions(x0, x1View, collisions, stats);
+        if (!findCollisions(x0, x1View, collisions, stats)) return crowdedResolve(stats);
     }
     // Last resort: hold the vertices of what still collides at x0, which was free of intersections.
     std::vector<uint8_t>& stopped = mStopped;
@@ -841,7 +873,7 @@ Status SelfCollision::resolve(Span<const Vec3> x0, Span<Vec3> x1, Span<const dou
             }
         }
         if (!progress) break;
-        findCollisions(x0, x1View, collisions, stats);
+        if (!findCollisions(x0, x1View, collisions, stats)) return crowdedResolve(stats);
     }
     stats.unresolved = static_cast<uint32_t>(collisions.size());
     mLastResolveClean = collisions.empty();

@@ -95,10 +95,13 @@ void TriangleBvh::query(const Aabb& query, std::vector<uint32_t>& outHits) const
     }
 }
 
-void TriangleBvh::overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs) { descend({}, outPairs); }
+bool TriangleBvh::overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs, std::size_t maxPairs) {
+    return descend({}, outPairs, maxPairs);
+}
 
-void TriangleBvh::overlappingPairs(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs) {
-    if (marked.size() != mOrder.size()) return;
+bool TriangleBvh::overlappingPairs(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs,
+                                   std::size_t maxPairs) {
+    if (marked.size() != mOrder.size()) return true;
     // Which nodes hold a marked primitive: children follow their parents, so sweep backwards.
     mNodeMarked.assign(mNodes.size(), 0);
     for (std::size_t n = mNodes.size(); n-- > 0;) {
@@ -111,17 +114,20 @@ void TriangleBvh::overlappingPairs(Span<const uint8_t> marked, std::vector<std::
         }
         mNodeMarked[n] = any;
     }
-    descend(marked, outPairs);
+    return descend(marked, outPairs, maxPairs);
 }
 
-void TriangleBvh::descend(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs) {
-    if (mNodes.empty()) return;
+bool TriangleBvh::descend(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs,
+                          std::size_t maxPairs) {
+    if (mNodes.empty()) return true;
+    const std::size_t limit = maxPairs > SIZE_MAX - outPairs.size() ? SIZE_MAX : outPairs.size() + maxPairs;
     const bool all = marked.empty();
     auto wanted = [&](uint32_t i, uint32_t j) { return all || marked[i] || marked[j]; };
     std::vector<std::array<uint32_t, 2>>& stack = mPairStack;
     stack.clear();
     stack.push_back({0, 0});
     while (!stack.empty()) {
+        if (outPairs.size() > limit) return false;
         const auto [ia, ib] = stack.back();
         stack.pop_back();
         if (!all && !mNodeMarked[ia] && !mNodeMarked[ib]) continue;
@@ -155,6 +161,7 @@ void TriangleBvh::descend(Span<const uint8_t> marked, std::vector<std::array<uin
             stack.push_back({ia, b.first + 1});
         }
     }
+    return outPairs.size() <= limit;
 }
 
 } // namespace cc::collision

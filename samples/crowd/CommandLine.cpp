@@ -66,6 +66,8 @@ int parseCommandLine(int argc, char** argv, RunOptions& o) {
                                                 "OUT/frame_stats.jsonl, one JSON line per frame");
     app.add_flag("--fixed-costs", o.fixedCosts, "Schedule by the World's fixed cost model instead of measured costs "
                                                 "(WorldDesc::fixedCostModel): a run repeats exactly, frame for frame");
+    app.add_flag("--garment-self-collision", o.garmentSelfCollision,
+                 "Let the scheduler turn self-collision on for garments seen large (WorldDesc::selfCollision)");
     app.add_flag("--full-resolution", o.fullResolution, "Every garment at its finest level and updated every frame "
                                                         "(no budget, no LOD): the cost LOD saves");
     const std::map<std::string, int> kPresets = {{"fast", int(cc::QualityPreset::Fast)},

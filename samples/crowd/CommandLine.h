@@ -30,6 +30,7 @@ struct RunOptions {
     bool fixedCosts = false;      ///< WorldDesc::fixedCostModel: the schedule repeats, whatever the timing
     std::string errorTables;      ///< cache of measured error tables (PlazaSettings::errorTables); empty = none
     int preset = -1;              ///< a cc::QualityPreset for the World; -1 = the default WorldDesc
+    bool garmentSelfCollision = false;  ///< WorldDesc::selfCollision: on for garments seen large
     double churn = 0.0;           ///< [1/s] share of the crowd replaced per second (a soak's joins and leaves)
     bool scaling = false, tradeoff = false, batch = false, snapshot = false, selfCollision = false;
     int shadow = 8;               ///< --scaling: garments the shadow check follows at once (0 = off)

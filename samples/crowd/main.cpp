@@ -94,6 +94,7 @@ int runCrowd(const RunOptions& o) {
     desc.maxThreads = uint32_t(o.threads);
     desc.frameBudgetMs = scene.budgetMs;
     desc.fixedCostModel = o.fixedCosts;
+    desc.selfCollision = o.garmentSelfCollision;
     if (o.preset >= 0)
         if (cc::Status s = desc.applyPreset(cc::QualityPreset(uint32_t(o.preset))); !s) return fail(s.message());
     if (o.fullResolution) crowd::useFullResolution(desc);

@@ -41,9 +41,11 @@ bool boxesOverlap(const std::vector<Vec3>& x0, const std::vector<Vec3>& x1, std:
 
 void checkCandidatesAgainstBruteForce(const Triangles& tris, const std::vector<Vec3>& x0, const std::vector<Vec3>& x1,
                                       double margin) {
-    SelfCollision self = makeSelf(tris, static_cast<uint32_t>(x0.size()));
+    SelfCollisionSettings exhaustive;  // a soup of random triangles is as crowded as cloth never is
+    exhaustive.maxPairsPerTriangle = UINT32_MAX;
+    SelfCollision self = makeSelf(tris, static_cast<uint32_t>(x0.size()), exhaustive);
     std::vector<std::array<uint32_t, 2>> vf, ee;
-    self.candidates(x0, x1, margin, vf, ee);
+    ASSERT_TRUE(self.candidates(x0, x1, margin, vf, ee));
     const std::set<std::array<uint32_t, 2>> vfSet(vf.begin(), vf.end()), eeSet(ee.begin(), ee.end());
     EXPECT_EQ(vfSet.size(), vf.size()) << "duplicate vertex-triangle candidates";
     EXPECT_TRUE(std::is_sorted(vf.begin(), vf.end()));
@@ -115,7 +117,7 @@ TEST(SelfCollisionBroadPhase, TheTreeAgainstItselfFindsExactlyTheOverlappingPair
         const std::vector<Aabb> boxes = randomBoxes(500);
         bvh.refit(boxes);
         std::vector<std::array<uint32_t, 2>> pairs;
-        bvh.overlappingPairs(pairs);
+        EXPECT_TRUE(bvh.overlappingPairs(pairs));
         std::sort(pairs.begin(), pairs.end());
         EXPECT_EQ(std::adjacent_find(pairs.begin(), pairs.end()), pairs.end()) << "a pair found twice";
         std::vector<std::array<uint32_t, 2>> expected;
@@ -135,6 +137,17 @@ TEST(SelfCollisionBroadPhase, TheTreeAgainstItselfFindsExactlyTheOverlappingPair
             if (marked[p[0]] || marked[p[1]]) expectedMarked.push_back(p);
         EXPECT_GT(expectedMarked.size(), 10u);
         EXPECT_EQ(markedPairs, expectedMarked);
+        // Capped: the descent stops soon after the cap, and says so; at the exact count it does not.
+        std::vector<std::array<uint32_t, 2>> capped{{0, 0}};  // appends: the cap counts new pairs
+        EXPECT_FALSE(bvh.overlappingPairs(capped, expected.size() / 4));
+        EXPECT_GT(capped.size(), expected.size() / 4);
+        EXPECT_LT(capped.size(), expected.size() / 2);
+        capped.clear();
+        EXPECT_TRUE(bvh.overlappingPairs(capped, expected.size()));
+        EXPECT_EQ(capped.size(), expected.size());
+        std::vector<std::array<uint32_t, 2>> cappedMarked;
+        EXPECT_FALSE(bvh.overlappingPairs(marked, cappedMarked, expectedMarked.size() / 2));
+        EXPECT_TRUE(bvh.overlappingPairs(marked, cappedMarked, SIZE_MAX));
     }
 }
 
@@ -383,6 +396,62 @@ TEST(SelfCollision, AResolveAfterACleanOneFromTheSameStartTestsOnlyWhatMovedSinc
     EXPECT_EQ(x1Other, x1OtherFresh);
 }
 
+TEST(SelfCollision, ACrumpledGarmentIsLeftToItselfAtABoundedCost) {
+    // A 24 x 24 sheet crumpled into a 2 cm ball (as a coarse level's fold prolonged to a fine one
+    // leaves it): every triangle's box meets hundreds of others. The planes and the resolve stop
+    // at maxPairsPerTriangle instead of testing a million pairs, say so, and change nothing; the
+    // same sheet spread out is searched as before.
+    const int n = 24;
+    Triangles tris;
+    std::vector<Vec3> flat, ball;
+    std::mt19937 random(9);
+    std::uniform_real_distribution<double> within(-0.01, 0.01);
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            flat.push_back(Vec3(double(i) / n, double(j) / n, 0.0));
+            ball.push_back(Vec3(within(random), within(random), within(random)));
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n + 1), d = c + 1;
+            tris.push_back({a, b, d});
+            tris.push_back({a, d, c});
+        }
+    const uint32_t count = static_cast<uint32_t>(flat.size());
+    const std::vector<Vec3> still(count, Vec3::Zero());
+    const std::vector<double> masses(count, 1.0);
+    SelfCollision self = makeSelf(tris, count);
+    std::vector<Contact> planes;
+    const auto start = std::chrono::steady_clock::now();
+    ASSERT_TRUE(self.separatingPlanes(ball, still, 1.0 / 60, {}, planes).isOk());
+    EXPECT_TRUE(self.crowded());
+    EXPECT_TRUE(planes.empty());
+    std::vector<Vec3> x1 = ball;
+    for (Vec3& p : x1) p += Vec3(within(random), within(random), within(random));
+    const std::vector<Vec3> before = x1;
+    SelfCollisionStats stats;
+    ASSERT_TRUE(self.resolve(ball, x1, masses, stats).isOk());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(stats.crowded, 1u);
+    EXPECT_EQ(stats.ccdTests, 0u);
+    EXPECT_EQ(x1, before);
+    std::printf("[ crumpled 24 x 24 sheet ] planes and resolve stopped in %.1f ms\n", 1e3 * seconds);
+    // Spread out, the same collider searches and is not crowded.
+    ASSERT_TRUE(self.separatingPlanes(flat, still, 1.0 / 60, {}, planes).isOk());
+    EXPECT_FALSE(self.crowded());
+    std::vector<Vec3> flatEnd = flat;
+    ASSERT_TRUE(self.resolve(flat, flatEnd, masses, stats).isOk());
+    EXPECT_EQ(stats.crowded, 0u);
+    EXPECT_FALSE(self.crowded());
+    // Without the cap the ball is searched in full: what the cap saves.
+    SelfCollisionSettings exhaustive;
+    exhaustive.maxPairsPerTriangle = UINT32_MAX;
+    SelfCollision unbounded = makeSelf(tris, count, exhaustive);
+    std::vector<std::array<uint32_t, 2>> vf, ee;
+    ASSERT_TRUE(unbounded.candidates(ball, ball, 0.003, vf, ee));
+    EXPECT_GT(vf.size() + ee.size(), 64u * tris.size());
+}
+
 TEST(SelfCollision, BadInputNamesTheProblem) {
     TwoTriangles s;
     SelfCollision self = makeSelf(s.tris, 6);
@@ -403,6 +472,9 @@ TEST(SelfCollision, BadInputNamesTheProblem) {
     SelfCollisionSettings bad;
     bad.ccdGap = 2 * bad.thickness;
     EXPECT_NE(bad.validate().message().find("ccdGap"), std::string::npos);
+    SelfCollisionSettings uncapped;
+    uncapped.maxPairsPerTriangle = 0;
+    EXPECT_NE(uncapped.validate().message().find("maxPairsPerTriangle"), std::string::npos);
 }
 
 // ---- Garments (TESTPLAN C6): zero intersecting triangle pairs after every step ----

@@ -28,6 +28,10 @@ struct SelfCollisionSettings {
                                       ///< impact zones take over; >= 1
     int zoneIterations = 32;          ///< [-] impact-zone passes before the last resort (stopping the
                                       ///< vertices still colliding); >= 1
+    uint32_t maxPairsPerTriangle = 64;  ///< [-] a search that meets more overlapping triangle pairs
+                                        ///< than this per triangle stops: the garment is crumpled
+                                        ///< (cloth meets 7-32 a triangle, a coarse fold prolonged to a
+                                        ///< fine level 480) and is left to itself; >= 1
     ParallelSettings parallel;        ///< threads for the continuous tests (results do not depend on it)
 
     /// Names the first invalid field.
@@ -52,6 +56,8 @@ struct SelfCollisionStats {
     uint32_t unresolved = 0;           ///< collisions left: only pinned vertices move in them
     uint32_t cappedTests = 0;          ///< continuous tests that hit their box budget (conservative)
     uint64_t ccdBoxes = 0;             ///< search boxes over all continuous tests (their cost)
+    uint32_t crowded = 0;              ///< 1 when a search stopped at maxPairsPerTriangle: the call
+                                       ///< ended there, leaving the rest of x1 as it was
 };
 
 /// Where separatingPlanes() puts the planes a solve keeps pairs apart by.
@@ -113,18 +119,22 @@ public:
     /// through itself, and neighbours answer a contact inside the solve instead of resolve()'s
     /// impulses after it, which a stiff crumpled region stores as strain (the blow-up a sheet folding
     /// onto itself showed). Appends to outPlanes, sorted by vertex; allocates only while its scratch
-    /// grows. Fails, appending nothing, on mismatched sizes or a non-finite input (naming the vertex).
+    /// grows. Appends nothing for a crumpled garment (crowded()). Fails, appending nothing, on
+    /// mismatched sizes or a non-finite input (naming the vertex).
     Status separatingPlanes(Span<const Vec3> x0, Span<const Vec3> velocities, double dt,
                             const SeparatingPlaneSettings& settings, std::vector<Contact>& outPlanes);
 
     const SelfCollisionSettings& settings() const { return mSettings; }
+    /// The last search stopped at maxPairsPerTriangle (see SelfCollisionStats::crowded).
+    bool crowded() const { return mCrowded; }
     uint32_t vertexCount() const { return mVertexCount; }
     Span<const std::array<uint32_t, 3>> triangles() const { return mTriangles; }
     Span<const std::array<uint32_t, 2>> edges() const { return mEdges; }
 
     /// Vertex-triangle and edge-edge pairs (non-adjacent) whose boxes, swept from x0 to x1 and
-    /// grown by `margin` [m], overlap; sorted. Exposed for the broad-phase tests.
-    void candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+    /// grown by `margin` [m], overlap; sorted. False, with the lists empty, when the search stopped
+    /// at maxPairsPerTriangle. Exposed for the broad-phase tests.
+    bool candidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                     std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                     std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
 
@@ -142,9 +152,11 @@ private:
         double margin = 0.0;
         bool valid = false;
     };
+    /// maxPairsPerTriangle for the whole mesh.
+    std::size_t maxTrianglePairs() const;
     /// candidates() of any per-vertex boxes: pairs whose primitives' hulls of them, grown by
-    /// `margin`, overlap.
-    void candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
+    /// `margin`, overlap. False (crowded) when the search stopped at maxTrianglePairs().
+    bool candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margin,
                            std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// The same lists as candidatesOfBoxes(vertexBoxes, margin) from a cache whose boxes hold most of
@@ -173,22 +185,27 @@ private:
     /// mMarkedTriangle from mMarked: 1 = holds a marked vertex.
     void markTriangles();
     /// Appends the pairs with a marked vertex whose boxes (of the last hullBoxes()) overlap: one
-    /// descent of the tree through the marked triangles. Unsorted.
-    void appendMarkedPairs(Span<const Aabb> vertexBoxes, std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
+    /// descent of the tree through the marked triangles. Unsorted. False (crowded) when the search
+    /// stopped at maxTrianglePairs().
+    bool appendMarkedPairs(Span<const Aabb> vertexBoxes, std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// The candidates of findCollisions()'s later passes: the pairs with a vertex in mChanged whose
-    /// swept boxes, grown by margin, overlap; sorted.
-    void changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+    /// swept boxes, grown by margin, overlap; sorted. False when crowded.
+    bool changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                            std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                            std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// candidates(x0, x1, margin): from the pairs separatingPlanes() found for the same x0 where
-    /// they serve, else a new search (counted in stats.broadPhases).
-    void sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
+    /// they serve, else a new search (counted in stats.broadPhases). False when crowded.
+    bool sweptCandidates(Span<const Vec3> x0, Span<const Vec3> x1, double margin,
                          std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                          std::vector<std::array<uint32_t, 2>>& outEdgeEdge, SelfCollisionStats& stats);
     void applyProximity(Span<const Vec3> x0, Span<Vec3> x1, SelfCollisionStats& stats);
-    void findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
+    /// The collisions of x0 -> x1 (a pass after the first: of the pairs with a changed vertex).
+    /// False, with none, when its search was crowded.
+    bool findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std::vector<Collision>& outCollisions,
                         SelfCollisionStats& stats);
+    /// resolve()'s end when a search was crowded.
+    Status crowdedResolve(SelfCollisionStats& stats);
     void applyImpulse(const Collision& c, Span<const Vec3> x0, Span<Vec3> x1) const;
     void rigidifyZones(Span<const Vec3> x0, Span<Vec3> x1, const std::vector<Collision>& collisions,
                        SelfCollisionStats& stats);
@@ -241,6 +258,7 @@ private:
     // The last resolve(): its x0, and whether it ended with no collision left.
     std::vector<Vec3> mResolveStart;
     bool mLastResolveClean = false;
+    bool mCrowded = false;  ///< the last search stopped at maxTrianglePairs()
 };
 
 } // namespace cc::collision

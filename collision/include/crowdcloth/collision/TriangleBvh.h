@@ -54,11 +54,14 @@ public:
     /// Appends every pair (a, b), a < b, of primitives whose boxes overlap, by one descent of the
     /// tree against itself (unsorted). Far cheaper than a query() per primitive: each pair of
     /// overlapping nodes is visited once instead of every primitive walking down from the root.
-    void overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs);
+    /// Stops, returning false, once more than `maxPairs` are appended (what is appended then is
+    /// a part of them); true when complete.
+    bool overlappingPairs(std::vector<std::array<uint32_t, 2>>& outPairs, std::size_t maxPairs = SIZE_MAX);
     /// The same pairs less those where neither primitive is marked (`marked[i]` != 0, one flag per
     /// primitive): the descent skips node pairs without a marked primitive, so a few marked
     /// primitives cost far less than a query each.
-    void overlappingPairs(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs);
+    bool overlappingPairs(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs,
+                          std::size_t maxPairs = SIZE_MAX);
 
     uint32_t primitiveCount() const { return static_cast<uint32_t>(mOrder.size()); }
 
@@ -77,7 +80,7 @@ private:
     std::vector<std::array<uint32_t, 2>> mPairStack;  ///< overlappingPairs' node pairs
     std::vector<uint8_t> mNodeMarked;                 ///< overlappingPairs' per node: holds a marked one
     /// The descent of overlappingPairs; `marked` empty = every pair.
-    void descend(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs);
+    bool descend(Span<const uint8_t> marked, std::vector<std::array<uint32_t, 2>>& outPairs, std::size_t maxPairs);
 };
 
 } // namespace cc::collision
