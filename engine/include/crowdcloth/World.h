@@ -61,10 +61,9 @@ struct CC_API WorldDesc {
     bool selfCollision = false;       ///< let the scheduler turn garment self-collision on for the largest
                                       ///< garments on screen (separating planes in the solve, a
                                       ///< continuous pass after it; its cost counted in the budget);
-                                      ///< 1.2-3.8x a garment's own solve on a walking mannequin
-                                      ///< (cc_crowd --self-collision). Off by default: a garment that
-                                      ///< comes near already tangled runs the fail-safe for up to a
-                                      ///< second (README, Self-collision)
+                                      ///< 1.0-2.3x a garment's own solve on a walking mannequin
+                                      ///< (cc_crowd --self-collision). Off by default: a garment at
+                                      ///< rest keeps moving more with it (README, Self-collision)
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
     Status validate() const;
