@@ -223,15 +223,13 @@ bool SelfCollision::candidatesOfBoxes(Span<const Aabb> vertexBoxes, double margi
         for (uint32_t t : hits) outVertexTriangle.push_back({v, t});  // a lone vertex is in no triangle
     }
     // Sorted (each pair is found once): results do not depend on the tree's order.
-    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
-    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+    sortCandidates(outVertexTriangle, outEdgeEdge);
     return true;
 }
 
 void SelfCollision::pairsOfTrianglePairs(Span<const Aabb> vertexBoxes, bool markedOnly,
                                          std::vector<std::array<uint32_t, 2>>& outVertexTriangle,
                                          std::vector<std::array<uint32_t, 2>>& outEdgeEdge) {
-    auto markedEdge = [&](uint32_t e) { return mMarked[mEdges[e][0]] || mMarked[mEdges[e][1]]; };
     auto vertexTriangle = [&](uint32_t v, uint32_t t) {
         if ((!markedOnly || mMarked[v] || mMarkedTriangle[t]) && !hasVertex(mTriangles[t], v) &&
             mBoxes[t].overlaps(vertexBoxes[v]))
@@ -286,7 +284,6 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
     if (escaped > mVertexCount / kMaxEscapedShare) return false;
     hullBoxes(vertexBoxes, margin);
     markTriangles();
-    auto escapedEdge = [&](uint32_t e) { return mMarked[mEdges[e][0]] || mMarked[mEdges[e][1]]; };
     outVertexTriangle.clear();
     outEdgeEdge.clear();
     // Pairs whose vertices all stayed in their cached boxes: every one that overlaps now overlapped
@@ -295,7 +292,7 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
         if (!mMarked[pair[0]] && !mMarkedTriangle[pair[1]] && mBoxes[pair[1]].overlaps(vertexBoxes[pair[0]]))
             outVertexTriangle.push_back(pair);
     for (const auto& pair : cache.ee)
-        if (!escapedEdge(pair[0]) && !escapedEdge(pair[1]) && edgesOverlap(pair[0], pair[1]))
+        if (!markedEdge(pair[0]) && !markedEdge(pair[1]) && edgesOverlap(pair[0], pair[1]))
             outEdgeEdge.push_back(pair);
     if (escaped == 0) return true;  // sorted, as the cache's lists are
     // Pairs with an escaped vertex, searched.
@@ -304,10 +301,17 @@ bool SelfCollision::pairsFromCache(const PairCache& cache, Span<const Aabb> vert
         outEdgeEdge.clear();
         return false;
     }
-    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
-    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+    sortCandidates(outVertexTriangle, outEdgeEdge);
     return true;
 }
+
+void SelfCollision::sortCandidates(std::vector<std::array<uint32_t, 2>>& vertexTriangle,
+                                   std::vector<std::array<uint32_t, 2>>& edgeEdge) {
+    sortPairs(vertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
+    sortPairs(edgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+}
+
+bool SelfCollision::markedEdge(uint32_t e) const { return mMarked[mEdges[e][0]] || mMarked[mEdges[e][1]]; }
 
 void SelfCollision::markTriangles() {
     mMarkedTriangle.resize(mTriangles.size());
@@ -352,8 +356,7 @@ bool SelfCollision::changedCandidates(Span<const Vec3> x0, Span<const Vec3> x1, 
     outVertexTriangle.clear();
     outEdgeEdge.clear();
     if (!appendMarkedPairs(mVertexBoxes, outVertexTriangle, outEdgeEdge)) return false;
-    sortPairs(outVertexTriangle, mVertexCount, uint32_t(mTriangles.size()));
-    sortPairs(outEdgeEdge, uint32_t(mEdges.size()), uint32_t(mEdges.size()));
+    sortCandidates(outVertexTriangle, outEdgeEdge);
     return true;
 }
 
@@ -590,10 +593,9 @@ bool SelfCollision::findCollisions(Span<const Vec3> x0, Span<const Vec3> x1, std
     std::vector<std::array<uint32_t, 2>>& ee = mPairsEe;
     // A pass after the first re-tests only pairs with a vertex the last pass's impulses or zones
     // moved, or one in a collision then: a test depends on its four vertices' x0 and x1 alone, so
-    // any other pair tested clear last time is clear now. Its candidates are searched for through
-    // the triangles holding such a vertex alone (the broad phase is conservative in any frame, so
-    // a pair that collides was a candidate when it was tested). The fail-safe's dozens of passes
-    // cost little more than the first.
+    // any other pair tested clear last time is clear now. So the pass searches for candidates only
+    // through the triangles holding such a vertex, and tests those. The fail-safe's dozens of
+    // passes cost little more than the first.
     mChanged.resize(mVertexCount);
     for (uint32_t v = 0; v < mVertexCount; ++v) {
         mChanged[v] = !mRetestMovedOnly || mInLastCollision[v] || !(x1[v] == mLastEnd[v]);

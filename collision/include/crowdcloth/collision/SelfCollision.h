@@ -182,6 +182,11 @@ private:
     /// Sorts pairs (first index below firstCount, second below secondCount), without allocating
     /// once warm.
     void sortPairs(std::vector<std::array<uint32_t, 2>>& pairs, uint32_t firstCount, uint32_t secondCount);
+    /// Both candidate lists sorted (sortPairs), so results do not depend on the search's order.
+    void sortCandidates(std::vector<std::array<uint32_t, 2>>& vertexTriangle,
+                        std::vector<std::array<uint32_t, 2>>& edgeEdge);
+    /// An end of edge e is in mMarked.
+    bool markedEdge(uint32_t e) const;
     /// mMarkedTriangle from mMarked: 1 = holds a marked vertex.
     void markTriangles();
     /// Appends the pairs with a marked vertex whose boxes (of the last hullBoxes()) overlap: one
