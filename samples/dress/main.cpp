@@ -6,13 +6,15 @@
 //   cc_dress [--asset FILE] [--garment cape|skirt|dress|poncho] [--cut straight|aline|circle]
 //            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N] [--out DIR]
 //            [--height M] [--width W --length L] [--speed M/S] [--compression C] [--damping S]
-//            [--level L] [--far S]
+//            [--level L] [--far S] [--self-collision]
 //
 // --level steps the garment at level L instead of its finest (without it, the finest); --far tells
 // the World for the first S seconds that the camera is 40 m away (the garment then runs as a
 // crowd's distant garments do: unforced, it takes the level the World gives it, against the body's
 // capsules, with no budget left over to refine it) while the frames are still drawn close up; then
 // the camera cuts to the close-up.
+// --self-collision turns the World's self-collision on (WorldDesc::selfCollision): the close-up
+// garment then keeps its layers apart.
 // --speed walks the character forward (its root along its facing, the camera following), as a
 // crowd's walkers do: the cloth then trails the body.
 #include <cmath>
@@ -44,6 +46,7 @@ struct Options {
     int every = 30;
     int level = -1;    ///< forced level; -1 = the finest
     double far = 0.0;  ///< [s] the World's camera 40 m away until then
+    bool selfCollision = false;
     std::string out = "dress_out";
 };
 
@@ -82,6 +85,7 @@ bool parse(int argc, char** argv, Options& o) {
         else if (a == "--out") o.out = next();
         else if (a == "--level") o.level = std::atoi(next().c_str());
         else if (a == "--far") o.far = std::atof(next().c_str());
+        else if (a == "--self-collision") o.selfCollision = true;
         else if (a == "--height") o.height = std::atof(next().c_str());
         else if (a == "--width") o.width = std::atof(next().c_str());
         else if (a == "--length") o.length = std::atof(next().c_str());
@@ -115,6 +119,7 @@ int main(int argc, char** argv) {
     cc::WorldDesc wd;
     wd.fixedCostModel = true;
     wd.spendSlack = o.far == 0.0;  // far away, the level the pixel tolerance needs (a crowd has no slack)
+    wd.selfCollision = o.selfCollision;
     auto created = cc::World::create(wd);
     if (!created.isOk()) return fail("world", created.status());
     std::unique_ptr<cc::World, WorldDeleter> world(created.value());
