@@ -468,6 +468,14 @@ private:
         }
     }
 
+    // One spring's stored Hessian times u (lanes l..l+S): frame3 (n . u) n + frame4 u.
+    static void springHessianTimes(const double* CC_RESTRICT frame, int l, const V (&u)[3], V (&out)[3]) {
+        const V n[3] = {load<V>(frame + l), load<V>(frame + W + l), load<V>(frame + 2 * W + l)};
+        const V along = load<V>(frame + 3 * W + l) * (n[0] * u[0] + n[1] * u[1] + n[2] * u[2]);
+        const V across = load<V>(frame + 4 * W + l);
+        for (int c = 0; c < 3; ++c) out[c] = along * n[c] + across * u[c];
+    }
+
     // out += H u over one list of springs (the stored frames), for the free ends.
     void hessianProduct(const std::vector<LevelSpring>& springs, const double* CC_RESTRICT frames,
                         const double* CC_RESTRICT u, double* CC_RESTRICT out, bool bothFree) const {
@@ -479,19 +487,15 @@ private:
             double* CC_RESTRICT ob = out + std::size_t(sp.b) * kRow;
             const double* CC_RESTRICT frame = frames + i * 5 * W;
             for (int l = 0; l < W; l += S) {
-                V dx = load<V>(ua + l), dy = load<V>(ua + W + l), dz = load<V>(ua + 2 * W + l);
-                if (bothFree) dx -= load<V>(ub + l), dy -= load<V>(ub + W + l), dz -= load<V>(ub + 2 * W + l);
-                const V nx = load<V>(frame + l), ny = load<V>(frame + W + l), nz = load<V>(frame + 2 * W + l);
-                const V along = load<V>(frame + 3 * W + l) * (nx * dx + ny * dy + nz * dz);
-                const V across = load<V>(frame + 4 * W + l);
-                const V hx = along * nx + across * dx, hy = along * ny + across * dy, hz = along * nz + across * dz;
-                store(oa + l, load<V>(oa + l) + hx);
-                store(oa + W + l, load<V>(oa + W + l) + hy);
-                store(oa + 2 * W + l, load<V>(oa + 2 * W + l) + hz);
-                if (bothFree) {
-                    store(ob + l, load<V>(ob + l) - hx);
-                    store(ob + W + l, load<V>(ob + W + l) - hy);
-                    store(ob + 2 * W + l, load<V>(ob + 2 * W + l) - hz);
+                V d[3], h[3];
+                for (int c = 0; c < 3; ++c) {
+                    d[c] = load<V>(ua + c * W + l);
+                    if (bothFree) d[c] -= load<V>(ub + c * W + l);
+                }
+                springHessianTimes(frame, l, d, h);
+                for (int c = 0; c < 3; ++c) {
+                    store(oa + c * W + l, load<V>(oa + c * W + l) + h[c]);
+                    if (bothFree) store(ob + c * W + l, load<V>(ob + c * W + l) - h[c]);
                 }
             }
         }
@@ -542,24 +546,21 @@ private:
             for (const LevelSpring& sp : *g.springs) {
                 const std::size_t a = std::size_t(sp.a) * kRow, b = std::size_t(sp.b) * kRow;
                 for (int l = 0; l < W; l += S) {
-                    V n[3], relative[3], along{};
+                    V relative[3], stiffnessTimes[3];
                     for (int c = 0; c < 3; ++c) {
                         const std::size_t o = std::size_t(c) * W + l;
-                        n[c] = load<V>(frame + c * W + l);
                         relative[c] = (load<V>(y + a + o) - load<V>(start + a + o)) -
                                       (load<V>(y + b + o) - load<V>(start + b + o));
-                        along += n[c] * relative[c];
                     }
-                    // K u = frame3 (n . u) n + frame4 u, as in hessianProduct.
-                    const V alongStiffness = load<V>(frame + 3 * W + l), acrossStiffness = load<V>(frame + 4 * W + l);
+                    springHessianTimes(frame, l, relative, stiffnessTimes);
                     for (int c = 0; c < 3; ++c) {
                         const std::size_t o = std::size_t(c) * W + l;
-                        const V force = rate * (alongStiffness * along * n[c] + acrossStiffness * relative[c]);
+                        const V force = rate * stiffnessTimes[c];
                         store(r + a + o, load<V>(r + a + o) - force);
                         if (g.bothFree) store(r + b + o, load<V>(r + b + o) + force);
                     }
-                    store(frame + 3 * W + l, (1.0 + rate) * alongStiffness);
-                    store(frame + 4 * W + l, (1.0 + rate) * acrossStiffness);
+                    store(frame + 3 * W + l, (1.0 + rate) * load<V>(frame + 3 * W + l));
+                    store(frame + 4 * W + l, (1.0 + rate) * load<V>(frame + 4 * W + l));
                 }
                 frame += 5 * W;
             }
