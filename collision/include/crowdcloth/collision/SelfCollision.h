@@ -167,10 +167,13 @@ private:
                         std::vector<std::array<uint32_t, 2>>& outEdgeEdge);
     /// mVertexBoxes: each vertex's box over its motion from x0 to x1.
     void sweptBoxes(Span<const Vec3> x0, Span<const Vec3> x1);
-    /// The tree over mBoxes: built the first time, refit after.
+    /// The tree over mTreeBoxes: built the first time, refit after.
     void fitTree();
-    /// mBoxes (each triangle's hull of its vertices' boxes, grown by margin) and mEdgeBoxes.
+    /// mBoxes (each triangle's hull of its vertices' boxes, grown by margin), mTreeBoxes (the
+    /// same grown by mTreeMargin, about half the margin) and mEdgeBoxes.
     void hullBoxes(Span<const Aabb> vertexBoxes, double margin);
+    /// A box to ask the tree for the triangles whose mBoxes may meet `box` (a superset).
+    Aabb treeQuery(const Aabb& box) const;
     /// The broad phase's box test of two edges (their boxes of the last hullBoxes(), one grown by its
     /// margin), the same whichever is named first.
     bool edgesOverlap(uint32_t e, uint32_t f) const;
@@ -234,7 +237,8 @@ private:
     bool mBvhBuilt = false;
     // Per-step scratch.
     std::vector<double> mInvMass;
-    std::vector<Aabb> mBoxes, mEdgeBoxes, mGrownEdgeBoxes;
+    std::vector<Aabb> mBoxes, mTreeBoxes, mEdgeBoxes, mGrownEdgeBoxes;
+    double mTreeMargin = 0.0;  ///< [m] mTreeBoxes' growth
     std::vector<uint32_t> mHits;
     std::vector<Vec3> mReachEnd;                              ///< separatingPlanes: x0 + lookahead motion
     std::vector<Vec3> mNormals;                               ///< separatingPlanes: per triangle at x0
