@@ -469,7 +469,8 @@ private:
     }
 
     // One spring's stored Hessian times u (lanes l..l+S): frame3 (n . u) n + frame4 u.
-    static void springHessianTimes(const double* CC_RESTRICT frame, int l, const V (&u)[3], V (&out)[3]) {
+    static void springHessianTimes(const double* CC_RESTRICT frame, int l, const V (&u)[3],
+                                   V (&out)[3]) {
         const V n[3] = {load<V>(frame + l), load<V>(frame + W + l), load<V>(frame + 2 * W + l)};
         const V along = load<V>(frame + 3 * W + l) * (n[0] * u[0] + n[1] * u[1] + n[2] * u[2]);
         const V across = load<V>(frame + 4 * W + l);

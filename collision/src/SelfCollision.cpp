@@ -168,8 +168,8 @@ void SelfCollision::hullBoxes(Span<const Aabb> vertexBoxes, double margin) {
         return box;
     };
     // The tree's boxes are grown by half the margin, so two overlap when their triangles' hulls
-    // come within the margin, which is all a primitive pair of theirs needs (a primitive's box is in
-    // its owner's hull): growing both by the whole margin let in twice the gap, and 12 % more
+    // come within the margin, which is all a primitive pair of theirs needs (a primitive's box is
+    // in its owner's hull): growing both by the whole margin let in twice the gap, and 12 % more
     // triangle pairs in the self-collision study, for nothing. The hair over half keeps rounding
     // from losing a pair.
     mTreeMargin = 0.5 * margin * (1.0 + 1e-6);
