@@ -207,6 +207,7 @@ private:
             contacts.clear();
             mCorrections[l] = 0;
             if (std::size_t(l) >= lanes.size()) continue;
+            contacts.reserve(std::max(lane.contactCapacity, lane.contacts.size()));
             for (const Contact& c : lane.contacts) {
                 const uint32_t node = mLevel.nodeOfVertex()[c.vertex];
                 if (node >= free) continue;  // attached nodes follow their targets

@@ -326,6 +326,7 @@ cloth::SubstepLane GarmentInstance::lane() {
     lane.velocities = mVelocities;
     lane.targets = mNodeTargets;
     lane.contacts = mContacts;
+    lane.contactCapacity = mContacts.capacity();
     lane.acceleration = context.acceleration;
     lane.frameAngularVelocity = context.angularVelocity;
     lane.frameAngularAcceleration = context.angularAcceleration;

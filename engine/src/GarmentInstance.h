@@ -118,8 +118,6 @@ public:
     Status prepare(CharacterInstance& character, UpdateScratch& scratch, GarmentUpdateReport& outReport);
     /// The solver's view of this garment for the update prepare() made ready.
     cloth::SubstepLane lane();
-    /// How many contacts this garment's list holds without allocating.
-    std::size_t contactCapacity() const { return mContacts.capacity(); }
     /// The substep solver's settings for this garment's asset at the given effort: the World's
     /// batches and the shadow check's copies step with the same ones.
     cloth::SubstepSettings solverSettings(int substeps, int iterations, double strainLimit) const;

@@ -136,7 +136,6 @@ bool ShadowCheck::update(GarmentInstance& g, Follow& scratch, double dt, int sub
     GarmentUpdateReport report;
     if (!g.prepare(character, scratch.update, report)) return false;
     const cloth::SubstepLane lane = g.lane();
-    scratch.workspace.contacts[0].reserve(g.contactCapacity());  // as a batch's lanes (WorldImpl)
     cloth::SubstepLaneReport laneReport;
     const Status solved = cloth::stepSubsteps(*g.cookedLevel().cloth, *factor.value(), dt, settings,
                                               Span<const cloth::SubstepLane>(&lane, 1), scratch.workspace,

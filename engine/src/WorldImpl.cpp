@@ -409,14 +409,8 @@ void WorldImpl::simulateBatch(Batch& batch) {
     batch.lanes.clear();
     batch.reports.resize(batch.items.size());
     for (std::size_t item : batch.items) batch.lanes.push_back(mItems[item].garment->lane());
-    const auto workspace = mWorkspaces.borrow();
-    // The solver's copy of a lane's contacts holds as many as its garment's own list can, so it
-    // allocates only when that list grows, not when a garment with more contacts than the lane's
-    // last takes the lane.
-    for (std::size_t k = 0; k < batch.items.size(); ++k)
-        (*workspace).contacts[k].reserve(mItems[batch.items[k]].garment->contactCapacity());
     const Status status = cloth::stepSubsteps(*batch.level->cloth, *batch.factor, batch.dt, batch.settings,
-                                              batch.lanes, *workspace, batch.reports);
+                                              batch.lanes, *mWorkspaces.borrow(), batch.reports);
     // The shared solve's time, split evenly: what each garment costs inside a batch.
     const double share = msSince(start) / double(batch.items.size());
     for (std::size_t k = 0; k < batch.items.size(); ++k) {
