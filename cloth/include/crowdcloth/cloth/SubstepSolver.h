@@ -65,9 +65,9 @@ struct SubstepLane {
     Span<const Vec3> targets;      ///< [m] per attached node (ClothLevel order): where it must be at
                                    ///< the end of the step; it moves there linearly over the substeps
     Span<const Contact> contacts;  ///< body contacts for the step (geometry at its end), by vertex
-    /// The workspace keeps room for this many of the lane's contacts (the caller's list's capacity),
-    /// so its copy allocates only when that list has grown, not when a lane with more contacts than
-    /// its last takes the workspace; 0 = as many as given.
+    /// The workspace keeps room for this many of the lane's contacts (the caller's list's
+    /// capacity), so its copy allocates only when that list has grown, not when a lane with more
+    /// contacts than its last takes the workspace; 0 = as many as given.
     std::size_t contactCapacity = 0;
     Vec3 acceleration{0.0, -9.81, 0.0};  ///< [m/s^2] uniform external acceleration (gravity in the
                                          ///< simulation's frame, less the frame origin's acceleration)
