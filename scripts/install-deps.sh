@@ -6,7 +6,7 @@ packages=(build-essential cmake ninja-build pkg-config git
           libeigen3-dev libembree-dev libtbb-dev libassimp-dev libsuitesparse-dev
           libosmesa6-dev libgtest-dev libgmock-dev libbenchmark-dev libstb-dev libbullet-dev
           libcli11-dev nlohmann-json3-dev ffmpeg python3-matplotlib
-          clang libclang-rt-14-dev  # libFuzzer and its sanitizers (scripts/run-fuzz.sh)
+          clang libclang-rt-14-dev  # the sanitizer and fuzzer build (scripts/configure-sanitizers.sh)
           cppcheck clang-tidy)      # static analysis (scripts/run-analysis.sh)
 missing=()
 for p in "${packages[@]}"; do

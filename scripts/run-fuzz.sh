@@ -6,29 +6,21 @@
 #           extension; tests/fuzz/import_corpus)
 #   world   any sequence of the World's calls with any values (FuzzWorld.cpp; corpus)
 #   capi    the C API misused as a C host might (FuzzCApi.cpp; capi_corpus)
-# FUZZ_TARGETS chooses (default all three). The run's new inputs stay in build-fuzz/; a crash, a
-# leak, an input slower than 20 s or an allocation over 1 GB fails the run and leaves the input
-# there (fix it, then commit it to the target's corpus). Called by run-tests.sh; needs the
-# packages of install-deps.sh.
+# FUZZ_TARGETS chooses (default all three). The fuzzers come from ./build-asan, the sanitizer
+# suites' build (scripts/configure-sanitizers.sh; built here if run-sanitizers.sh has not). The
+# run's new inputs stay in build-fuzz/; a crash, a leak, an input slower than 20 s or an allocation
+# over 1 GB fails the run and leaves the input there (fix it, then commit it to the target's
+# corpus). Called by run-tests.sh; needs the packages of install-deps.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${FUZZ_SECONDS:-20}
 targets=${FUZZ_TARGETS:-import world capi}
 
-san="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
 start=$(date +%s)
-# No OpenMP (clang would want libomp; each input runs on one thread anyway) and no samples; the
-# libraries as unity builds: the whole engine then builds in about the time the import reader
-# alone took file by file. -O2, not -O1: Eigen's small functions inlined, the C API fuzzes six
-# times as many inputs a second (measured: 2,335 against 367 runs in 45 s). Warnings are errors:
-# this is the one clang build of the engine, so it keeps crowdcloth clean for clang hosts too.
 mkdir -p build-fuzz
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-      -DCC_BUILD_FUZZERS=ON -DCC_BUILD_SAMPLES=OFF -DCC_WITH_OPENMP=OFF -DCC_UNITY_LIBRARIES=ON \
-      -DCC_WARNINGS_AS_ERRORS=ON \
-      -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" > build-fuzz/configure.log
-cmake --build build-fuzz --parallel "$(nproc)" --target $(for t in $targets; do echo "cc_fuzz_$t"; done)
+touch build-fuzz/started  # findings newer than this are this run's
+if [ ! -f build-asan/build.ninja ]; then bash scripts/configure-sanitizers.sh; fi
+cmake --build build-asan --parallel "$(nproc)" --target $(for t in $targets; do echo "cc_fuzz_$t"; done)
 built=$(date +%s)
 
 # ASan refuses single allocations over 768 MB (below libFuzzer's 1024 MB limit), so a parse child's
@@ -50,12 +42,12 @@ for t in $targets; do
         *) corpus= ;;
     esac
     # One job per core; -timeout and -malloc_limit_mb make a hang or a huge allocation a finding.
-    ./build-fuzz/tests/fuzz/cc_fuzz_$t -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 \
+    ./build-asan/tests/fuzz/cc_fuzz_$t -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 \
         -malloc_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$found/" "$found" $corpus \
         2>&1 | tail -n 25
     # Every file libFuzzer saves as crash-, oom-, leak- or timeout- is a real finding now
     # (a contained parse crash no longer writes one): new ones fail the run even where libFuzzer went on.
-    new=$(find "$found" -maxdepth 1 -newer build-fuzz/configure.log \
+    new=$(find "$found" -maxdepth 1 -newer build-fuzz/started \
           \( -name 'crash-*' -o -name 'oom-*' -o -name 'leak-*' -o -name 'timeout-*' \) | wc -l)
     echo "fuzz $t: $new new finding file(s) in $found"
     findings=$((findings + new))

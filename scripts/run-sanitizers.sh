@@ -1,33 +1,27 @@
 #!/usr/bin/env bash
-# Builds crowdcloth's fast test suites with AddressSanitizer + UndefinedBehaviorSanitizer (gcc,
-# LeakSanitizer on) into ./build-asan and runs them (CTest label 'fast') under it. Any report fails the
-# run. Called by run-tests.sh after the Release tests; needs the packages of install-deps.sh.
-# Leaks inside third-party libraries are suppressed in scripts/lsan.supp (each with its reason).
+# Builds crowdcloth's fast test suites with AddressSanitizer + UndefinedBehaviorSanitizer (clang,
+# LeakSanitizer on; scripts/configure-sanitizers.sh) into ./build-asan, with the fuzz targets that
+# scripts/run-fuzz.sh runs from the same build, and runs the suites (CTest label 'fast') under it.
+# Any report fails the run. Called by run-tests.sh after the Release tests; needs the packages of
+# install-deps.sh. Leaks inside third-party libraries are suppressed in scripts/lsan.supp (each
+# with its reason).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 
-san="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
-# GCC 12 under these sanitizers reports -Wmaybe-uninitialized inside libstdc++'s <regex> (the move of
-# a std::function in _NFA::_M_insert_subexpr_begin): a false positive in the library's own code.
-# The Release build keeps the warning for ours.
-nowarn="-Wno-maybe-uninitialized"
 # Set for the build too: gtest_discover_tests runs every test executable once to list its tests.
 export ASAN_OPTIONS="detect_leaks=1:check_initialization_order=1:strict_init_order=1"
 export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 
 start=$(date +%s)
-# -O2 -g1: optimised (Eigen is slow without inlining), line tables for the reports' stacks.
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCC_BUILD_SAMPLES=OFF -DCC_UNITY_LIBRARIES=ON -DCC_UNITY_TESTS=ON -DCC_TEST_SOURCE_FLAGS=-O1 \
-      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-      -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san $nowarn" \
-      -DCMAKE_EXE_LINKER_FLAGS="$san" -DCMAKE_SHARED_LINKER_FLAGS="$san"
+bash scripts/configure-sanitizers.sh
 # Only what runs here: the fast suites. The *_slow_tests suites (label 'slow'), the samples'
 # renderer and anything else no fast suite needs are left to the Release build.
 fast_suites=$(ninja -C build-asan -t targets all | sed -nE 's/^(cc_[a-z_]+_tests): phony$/\1/p' |
               grep -v '_slow_tests$')
 fast_suites="$fast_suites cc_fuzz_world_replay cc_fuzz_capi_replay cc_fuzz_import_replay"  # the fuzz corpora, under the sanitizers too
+fast_suites="$fast_suites cc_fuzz_world cc_fuzz_capi cc_fuzz_import"  # the fuzzers, for run-fuzz.sh
 cmake --build build-asan --parallel "$(nproc)" --target $fast_suites
 built=$(date +%s)
 
@@ -54,5 +48,5 @@ status=0
 OMP_WAIT_POLICY=passive ctest --test-dir build-asan --output-on-failure --timeout 900 -j "$(nproc)" -L fast \
     -E "$slow_under_asan" || status=$?
 done_=$(date +%s)
-echo "run-sanitizers: build $((built - start)) s, fast tests $((done_ - built)) s (ASan + UBSan + LSan)"
+echo "run-sanitizers: build $((built - start)) s (with the fuzzers), fast tests $((done_ - built)) s (ASan + UBSan + LSan)"
 exit "$status"

@@ -3,8 +3,8 @@
 # (scripts/run-analysis.sh) and every test through CTest; then builds the consumer projects
 # against an install (scripts/check-consumers.sh); then the fast tests again under
 # AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer (scripts/run-sanitizers.sh); then
-# libFuzzer on the import gate, the World and the C API (scripts/run-fuzz.sh) beside the World's
-# concurrency tests under ThreadSanitizer (scripts/run-tsan.sh).
+# libFuzzer on the import gate, the World and the C API (scripts/run-fuzz.sh, fuzzers from the
+# sanitizer build) beside the World's concurrency tests under ThreadSanitizer (scripts/run-tsan.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -16,8 +16,8 @@ bash scripts/run-analysis.sh
 OMP_WAIT_POLICY=passive ctest --test-dir build --output-on-failure --timeout 900 -j "$(nproc)"
 bash scripts/check-consumers.sh
 bash scripts/run-sanitizers.sh
-# The fuzzer runs one process, the TSan build wants both cores: overlapped, they save a minute and
-# a half of CI's time. The fuzzer's output follows TSan's; either failing fails the run.
+# The fuzzer runs one process, the TSan build wants both cores: overlapped, they save a minute of
+# CI's time. The fuzzer's output follows TSan's; either failing fails the run.
 mkdir -p build-fuzz
 bash scripts/run-fuzz.sh > build-fuzz/run.log 2>&1 &
 fuzz=$!
