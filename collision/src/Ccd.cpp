@@ -102,6 +102,31 @@ std::array<double, 2> closestSegmentParameters(const Vec3& a, const Vec3& b, con
     return {s, u};
 }
 
+bool interiorClosestSegmentParameters(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                      std::array<double, 2>& out) {
+    // The lines' closest points are at (s, u) = (bb f - cc ee, aa f - bb cc) / denom. The distance
+    // is a convex quadratic in (s, u), so where that point is outside the unit square the segments'
+    // closest points are on its boundary, at an end of an edge, and closestSegmentParameters()
+    // clamps a parameter to 0 or 1. Decided here only for edges far from parallel (the point then
+    // moves by far less than the tolerance under rounding) and points outside by more than it;
+    // the rest take closestSegmentParameters()'s own values and test.
+    const Vec3 d1 = b - a, d2 = d - c, r = a - c;
+    const double aa = d1.squaredNorm(), ee = d2.squaredNorm();
+    const double f = d2.dot(r), cc = d1.dot(r), bb = d1.dot(d2);
+    const double denom = aa * ee - bb * bb;
+    if (aa > DBL_MIN && ee > DBL_MIN && denom > 1e-6 * aa * ee) {
+        const double sNumerator = bb * f - cc * ee, uNumerator = aa * f - bb * cc;
+        const double tolerance = 1e-6 * denom;
+        if (sNumerator < -tolerance || sNumerator > denom + tolerance || uNumerator < -tolerance ||
+            uNumerator > denom + tolerance)
+            return false;
+    }
+    const std::array<double, 2> su = closestSegmentParameters(a, b, c, d);
+    if (!(su[0] > 0.0 && su[0] < 1.0 && su[1] > 0.0 && su[1] < 1.0)) return false;
+    out = su;
+    return true;
+}
+
 namespace {
 
 enum class Pair { VertexTriangle, EdgeEdge };

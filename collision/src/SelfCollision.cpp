@@ -534,9 +534,9 @@ Status SelfCollision::separatingPlanes(Span<const Vec3> x0, Span<const Vec3> vel
     for (const auto& pair : mUpdate.ee) {
         const auto& a = mEdges[pair[0]];
         const auto& b = mEdges[pair[1]];
-        const std::array<double, 2> su = closestSegmentParameters(x0[a[0]], x0[a[1]], x0[b[0]], x0[b[1]]);
         // Closest at an end of either edge: that end's vertex-triangle pairs hold the same plane.
-        if (su[0] <= 0.0 || su[0] >= 1.0 || su[1] <= 0.0 || su[1] >= 1.0) continue;
+        std::array<double, 2> su{};
+        if (!interiorClosestSegmentParameters(x0[a[0]], x0[a[1]], x0[b[0]], x0[b[1]], su)) continue;
         // The face of either edge's first triangle that is more nearly across the pair.
         const Vec3& na = mNormals[mEdgeTriangle[pair[0]]];
         const Vec3& nb = mNormals[mEdgeTriangle[pair[1]]];

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
@@ -207,6 +208,65 @@ TEST(Ccd, NonFiniteInputIsReported) {
     EXPECT_EQ(runEe({kA, kB, kC, Vec3(0, 0, 1)}, {kA, kB, kC, Vec3(0, std::numeric_limits<double>::infinity(), 1)},
                     0.0, hit),
               CcdOutcome::NonFinite);
+}
+
+TEST(ClosestSegments, InteriorParametersOfSkewEdgesAndNoneWhereAnEndIsClosest) {
+    std::array<double, 2> su{-1.0, -1.0};
+    // Perpendicular edges one above the other, crossing at their middles.
+    ASSERT_TRUE(interiorClosestSegmentParameters(Vec3(-1, 0, 0), Vec3(1, 0, 0), Vec3(0, -1, 1),
+                                                 Vec3(0, 1, 1), su));
+    EXPECT_DOUBLE_EQ(su[0], 0.5);
+    EXPECT_DOUBLE_EQ(su[1], 0.5);
+    // The second edge shifted past the first one's end: closest at that end, out untouched.
+    su = {-1.0, -1.0};
+    EXPECT_FALSE(interiorClosestSegmentParameters(Vec3(-1, 0, 0), Vec3(1, 0, 0), Vec3(3, -1, 1),
+                                                  Vec3(3, 1, 1), su));
+    EXPECT_EQ(su[0], -1.0);
+    // Parallel edges and a point have no interior pair.
+    EXPECT_FALSE(interiorClosestSegmentParameters(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0),
+                                                  Vec3(1, 1, 0), su));
+    EXPECT_FALSE(interiorClosestSegmentParameters(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0),
+                                                  Vec3(1, 1, 0), su));
+}
+
+TEST(ClosestSegments, InteriorTestAgreesBitForBitWithTheFullComputation) {
+    // The quick rejection must never change an answer: random pairs of every kind (crossing,
+    // apart, nearly parallel, of very different lengths, degenerate), each answered as
+    // closestSegmentParameters() answers it, with its values.
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::uniform_real_distribution<double> exponent(-9.0, 0.0);
+    auto point = [&](double scale) -> Vec3 {
+        return Vec3(unit(random), unit(random), unit(random)) * scale;
+    };
+    int interior = 0, total = 0;
+    for (int trial = 0; trial < 200000; ++trial) {
+        const int kind = trial % 5;
+        Vec3 a = point(1.0), b = a + point(0.1), c = point(1.0), d = c + point(0.1);
+        if (kind == 1) { // near each other, as a garment's candidate pairs are
+            c = a + point(0.05);
+            d = c + point(0.1);
+        } else if (kind == 2) { // nearly parallel
+            d = c + (b - a) + point(std::pow(10.0, exponent(random)));
+        } else if (kind == 3) { // lengths three orders apart
+            d = c + point(1e-4);
+        } else if (kind == 4 && trial % 10 == 4) { // a point
+            b = a;
+        }
+        const std::array<double, 2> full = closestSegmentParameters(a, b, c, d);
+        const bool inside = full[0] > 0.0 && full[0] < 1.0 && full[1] > 0.0 && full[1] < 1.0;
+        std::array<double, 2> su{-1.0, -1.0};
+        const bool answered = interiorClosestSegmentParameters(a, b, c, d, su);
+        ASSERT_EQ(answered, inside) << "trial " << trial;
+        if (answered) {
+            ASSERT_EQ(su[0], full[0]) << "trial " << trial;
+            ASSERT_EQ(su[1], full[1]) << "trial " << trial;
+            ++interior;
+        }
+        ++total;
+    }
+    EXPECT_GT(interior, total / 50);
+    EXPECT_LT(interior, total / 2);
 }
 
 TEST(CcdSettings, ValidateNamesTheField) {
