@@ -25,9 +25,11 @@ fast_suites="$fast_suites cc_fuzz_world cc_fuzz_capi cc_fuzz_import"  # the fuzz
 cmake --build build-asan --parallel "$(nproc)" --target $fast_suites
 built=$(date +%s)
 
-# Fast suites only: the *_slow_tests suites (label 'slow') are run by the Release tests. Also left
-# to them: drapes against collision bodies that take 4-10 s in Release and 200 s and more each under
-# ASan (measured: Drape.SheetComesToRest... 205 s), which alone would double this run; and the
+# The times below were measured under gcc's ASan; clang's runs the whole of it about as fast
+# (178-220 s over four runs against gcc's 216). Fast suites only: the *_slow_tests suites (label
+# 'slow') are run by the Release tests. Also left to them: drapes against collision bodies that
+# take 4-10 s in Release and 200 s and more each under ASan (measured: Drape.SheetComesToRest...
+# 205 s), which alone would double this run; and the
 # twisted tube's self-collision (84 s under ASan, the slowest left): SelfCollisionGarment's sheet
 # drop runs the same code here. Also left out: the tests that repeat one run at 1, 2 and 4 threads
 # to compare hashes (20-30 s each here; the single-threaded paths run in every other test and the
