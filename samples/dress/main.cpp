@@ -1,7 +1,8 @@
 // dress: the close-up garment viewer. Puts one garment, fitted to the body, on one character (any
 // skinned file assimp reads, or the built-in mannequin), plays a clip and simulates the garment at
 // its finest level. Writes PNG frames seen from the front, the side and the back, and prints the
-// largest edge strain and attachment error every half second.
+// largest edge strain and attachment error every half second; at the end, the worst update's
+// strain and the strain's median and 95th percentile over the updates after the first half second.
 //
 //   cc_dress [--asset FILE] [--garment cape|skirt|dress|poncho] [--cut straight|aline|circle]
 //            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N] [--out DIR]
@@ -24,12 +25,14 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/import/CharacterIO.h"
 #include "crowdcloth/core/Camera.h"
+#include "crowdcloth/core/Statistics.h"
 #include "crowdcloth/render/OffscreenRenderer.h"
 
 namespace {
@@ -203,6 +206,7 @@ int main(int argc, char** argv) {
     };
     const int frames = int(std::lround(o.seconds * o.rate));
     double worstStrain = 0.0, worstAttachment = 0.0;
+    std::vector<double> strains;  // per update after the first half second
     if (int rc = renderFrame(0); rc != 0) return rc;
     for (int f = 1; f <= frames; ++f) {
         root = o.speed * (f / o.rate) * forward;
@@ -215,7 +219,10 @@ int main(int argc, char** argv) {
         if (cc::Status s = world->step(1.0 / o.rate); !s) return fail("step", s);
         const cc::GarmentStats st = world->garmentStats(garment.value()).value();
         if (st.failed) std::printf("frame %d: the garment's update failed\n", f);
-        if (f > int(0.5 * o.rate)) worstStrain = std::max(worstStrain, st.maxStrain);
+        if (f > int(0.5 * o.rate)) {
+            worstStrain = std::max(worstStrain, st.maxStrain);
+            strains.push_back(st.maxStrain);
+        }
         worstAttachment = std::max(worstAttachment, st.maxAttachmentError);
         if (f % int(std::max(1.0, 0.5 * o.rate)) == 0)
             std::printf("t %.2f s: strain %.1f %%, attachment error %.2f mm, contacts %u, substeps %u\n", f / o.rate,
@@ -224,5 +231,16 @@ int main(int argc, char** argv) {
         if (int rc = renderFrame(f); rc != 0) return rc;
     }
     std::printf("worst strain after 0.5 s: %.1f %%, worst attachment error %.2f mm\n", 100.0 * worstStrain, 1e3 * worstAttachment);
+    // One run's worst update is a single extreme of a chaotic motion (a knob that lowers it in one
+    // case raises it in the next); the distribution over the updates ranks knobs more steadily.
+    if (!strains.empty()) {
+        const double limit = wd.strainLimit;
+        std::size_t over = 0;
+        for (double s : strains) over += s > limit + 0.01;
+        std::printf("strain per update after 0.5 s: median %.1f %%, 95th percentile %.1f %%, %zu of %zu updates over "
+                    "the %.0f %% limit by more than a point\n",
+                    100.0 * cc::percentile(strains, 0.5), 100.0 * cc::percentile(strains, 0.95), over, strains.size(),
+                    100.0 * limit);
+    }
     return 0;
 }
