@@ -152,6 +152,7 @@ Status GarmentInstance::placeAtRest(CharacterInstance& character) {
     }
     mVelocities.assign(mPositions.size(), Vec3::Zero());
     while (mLevel < level) transferOneLevel(1);
+    mReleaseLeft = meanEdgeShortening() > kReleaseShortening ? kReleaseSeconds : 0.0;
     return Status::ok();
 }
 
@@ -331,7 +332,7 @@ cloth::SubstepLane GarmentInstance::lane() {
     lane.frameAngularVelocity = context.angularVelocity;
     lane.frameAngularAcceleration = context.angularAcceleration;
     lane.fictitiousScale = mInertiaScale;
-    lane.velocityDamping = mAsset->desc.velocityDamping;
+    lane.velocityDamping = mAsset->desc.velocityDamping + kReleaseDamping * mReleaseLeft / kReleaseSeconds;
     return lane;
 }
 
@@ -342,7 +343,7 @@ cloth::SubstepSettings GarmentInstance::solverSettings(int substeps, int iterati
     settings.iterations = iterations;
     settings.strainLimit = strainLimit;
     settings.contactThickness = mAsset->desc.thickness;
-    settings.compressionStiffness = mAsset->desc.compressionStiffness;
+    settings.compressionStiffness = compressionStiffness();
     settings.stiffnessDamping = mAsset->desc.damping;
     settings.friction = cloth::Friction{mAsset->desc.friction, 0.8 * mAsset->desc.friction};
     return settings;
@@ -432,6 +433,7 @@ Status GarmentInstance::finish(CharacterInstance& character, const cloth::Subste
     mSpecificKineticEnergy = mass > 0.0 ? energy / mass : 0.0;
     mSteppedLevel = mLevel;
     mSteppedOnMesh = context.collider && !context.proxies;
+    mReleaseLeft = std::max(0.0, mReleaseLeft - context.dt);
     mLocalDirty = true;
     return Status::ok();
 }
@@ -504,6 +506,21 @@ double GarmentInstance::attachmentError() const {
     for (const AttachedVertex& a : mAsset->levels[mLevel].attached)
         if (a.slot < mTargets.size()) worst = std::max(worst, (mPositions[a.sim] - mTargets[a.slot]).norm());
     return worst;
+}
+
+double GarmentInstance::compressionStiffness() const {
+    return mAsset->desc.compressionStiffness * (1.0 - mReleaseLeft / kReleaseSeconds);
+}
+
+double GarmentInstance::meanEdgeShortening() const {
+    const cloth::ClothLevel& level = *mAsset->levels[mLevel].cloth;
+    double sum = 0.0;
+    for (const cloth::LimitedEdge& e : level.limitedEdges()) {
+        const Vec3& a = mPositions[level.vertexOfNode()[e.a]];
+        const Vec3& b = mPositions[level.vertexOfNode()[e.b]];
+        sum += std::max(0.0, 1.0 - (b - a).norm() / e.restLength);
+    }
+    return level.limitedEdges().empty() ? 0.0 : sum / double(level.limitedEdges().size());
 }
 
 double GarmentInstance::maxEdgeStrain() const {

@@ -648,11 +648,11 @@ bool WorldImpl::nextStepPhase() {
         if (g.stats.failed) continue;
         const int substeps = std::max(1, g.schedule.substeps);
         keys.push_back({g.assetIndex(), g.level(), g.context.dt / double(substeps), substeps,
-                        std::max(1, g.schedule.iterations), i});
+                        std::max(1, g.schedule.iterations), g.compressionStiffness(), i});
     }
     auto sameBatch = [](const Key& a, const Key& b) {
         return a.asset == b.asset && a.level == b.level && a.substep == b.substep && a.substeps == b.substeps &&
-               a.iterations == b.iterations;
+               a.iterations == b.iterations && a.compression == b.compression;
     };
     std::sort(keys.begin(), keys.end(), [&](const Key& a, const Key& b) {
         if (a.asset != b.asset) return a.asset < b.asset;
@@ -660,6 +660,7 @@ bool WorldImpl::nextStepPhase() {
         if (a.substep != b.substep) return a.substep < b.substep;
         if (a.substeps != b.substeps) return a.substeps < b.substeps;
         if (a.iterations != b.iterations) return a.iterations < b.iterations;
+        if (a.compression != b.compression) return a.compression < b.compression;
         return mItems[a.item].id.index1 < mItems[b.item].id.index1;
     });
     mBatchCount = 0;

@@ -18,7 +18,7 @@ namespace {
 
 constexpr char kMagic[8] = {'C', 'C', 'W', 'O', 'R', 'L', 'D', '\x1a'};  // 0x1a: text-mode copies break it
 /// Bump on any change to what is written; a snapshot of another version is refused by name.
-constexpr uint32_t kFormatVersion = 3;
+constexpr uint32_t kFormatVersion = 4;
 constexpr uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderBytes = kSnapshotHeaderBytes;
 
@@ -250,6 +250,7 @@ void GarmentInstance::saveState(SnapshotWriter& w) const {
     w.putVector(mMorph);
     w.put(int32_t(mMorphFramesLeft));
     w.put(mSpecificKineticEnergy);
+    w.put(mReleaseLeft);
     putSchedule(w, schedule);
     const GarmentStats& x = stats;
     CC_GARMENT_STATS_FIELDS(CC_SNAPSHOT_PUT)
@@ -270,6 +271,7 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     auto morph = r.getFiniteVec3s("a level switch's fade");
     const int morphFrames = r.get<int32_t>();
     const double energy = r.getFinite("kinetic energy");
+    const double releaseLeft = r.getFinite("placement release time");
     const lod::GarmentSchedule restoredSchedule = getSchedule(r, levelCount);
     GarmentStats x;
     CC_GARMENT_STATS_FIELDS(CC_SNAPSHOT_GET)
@@ -282,7 +284,7 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     const bool morphFits = morph.empty() || morph.size() == mAsset->renderVertexCount;
     if (positions.size() != n || velocities.size() != n || !morphFits ||
         morphFrames < 0 || morphFrames > kMorphFrames || (morphFrames > 0 && morph.empty()) ||
-        !(energy >= 0.0)) {
+        !(energy >= 0.0) || !(releaseLeft >= 0.0 && releaseLeft <= kReleaseSeconds)) {
         r.fail("a garment's state does not match its asset (level " + std::to_string(level) + ", " +
                std::to_string(positions.size()) + " vertices)");
         return Status::ok();
@@ -296,6 +298,7 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     mMorph.assign(morph.begin(), morph.end());
     mMorphFramesLeft = morphFrames;
     mSpecificKineticEnergy = energy;
+    mReleaseLeft = releaseLeft;
     schedule = restoredSchedule;
     stats = x;
     lastUpdateTime = updateTime;
