@@ -8,6 +8,7 @@
 #include <string>
 
 #include "crowdcloth/character/CapsuleFit.h"
+#include "crowdcloth/character/ClipStride.h"
 
 namespace cc::detail {
 namespace {
@@ -105,6 +106,7 @@ void analyse(BodyAsset& body, bool keepAnchorMesh) {
         return;
     }
     body.measurements = std::move(measured).value();
+    if (skinned) body.measurements.stride = widestClipStride(ch, body.regions);
     if (!keepAnchorMesh) {
         makeAnchorMesh(body);
         if (body.anchorMesh.triangles.empty()) {

@@ -16,8 +16,12 @@ namespace cc::detail {
 namespace {
 
 /// [rad] how far a thigh swings forward (and the other back) in a stride: skirts and dresses are
-/// cut wide enough to clear both knees at this swing (a walk swings ~20-25 degrees, a run more).
+/// cut wide enough to clear both knees at this swing (a walk swings ~20-25 degrees, a run more),
+/// or at the widest stride of the body's own clips where that is wider (measured: CesiumMan's
+/// walk 47 degrees, RobotExpressive's run 69; cut for 30, their legs tore through the hem), up to
+/// kWidestStride (a split or a fall is no stride to cut for).
 constexpr double kStrideAngle = 30.0 * kPi / 180.0;
+constexpr double kWidestStride = 75.0 * kPi / 180.0;
 /// [rad] the steepest outward slope a hanging panel starts at; more flare than that starts folded
 /// in waves (godets), so a circle skirt starts hanging instead of flat at the waist.
 constexpr double kMaxDropSlope = 50.0 * kPi / 180.0;
@@ -472,6 +476,7 @@ Result<FittedGarment> fitTube(const ClothAssetDesc& design, const BodyAsset& bod
     // What the body below needs at each depth: round everything above it, and (A-line) below the
     // hips round both knees in a stride.
     std::vector<std::array<double, 3>> needs;  // (depth, round the body, with the stride)
+    const double strideAngle = std::max(kStrideAngle, std::min(m.stride, kWidestStride));
     double needMax = 0.0;
     {
         std::vector<Vec2> points = attach, slice;
@@ -484,7 +489,7 @@ Result<FittedGarment> fitTube(const ClothAssetDesc& design, const BodyAsset& bod
             const double need = polylineLength(ringAround(points, f, 0.0, 0.0, 1, 0.0, 2.0 * kPi), true);
             const double drop = std::max(0.0, m.hips.height - y);
             const double lateral = m.hips.halfWidth;
-            const double swing = 2.0 * (std::hypot(lateral, 2.0 * drop * std::sin(kStrideAngle)) - lateral);
+            const double swing = 2.0 * (std::hypot(lateral, 2.0 * drop * std::sin(strideAngle)) - lateral);
             needs.push_back({depth, need, need + swing});
             needMax = std::max(needMax, need);
         }

@@ -2,6 +2,7 @@
 // naming the size, attachments only on the torso's skin, flared cuts that clear the legs in a
 // stride, and clear errors for bodies garments cannot be fitted to.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -345,6 +346,52 @@ TEST(GarmentFit, FlaredSkirtsClearTheLegsInAStride) {
         }
         // The pattern stays panels of 4-8 base grids, so every level works.
         EXPECT_TRUE(fit.value().pattern.validate().isOk()) << fit.value().pattern.validate().message();
+    }
+}
+
+/// Whether a clip is a stride: named for walking or running (any case), or a body's only clip.
+bool isStrideClip(const Character& ch, std::size_t c) {
+    std::string name = ch.clips[c].name;
+    for (char& k : name) k = char(std::tolower(static_cast<unsigned char>(k)));
+    return ch.clips.size() == 1 || name.find("walk") != std::string::npos || name.find("run") != std::string::npos;
+}
+
+// The stride the fit clears is the widest of the body's own clips (CesiumMan's walk reaches 47
+// degrees, RobotExpressive's run 69). Checked by posing each body over its walks and runs and
+// measuring the ring the legs need at the hem's height, independently of the fit's own stride
+// measure: a hem shorter than that ring stretched by the strain limit must stretch past the limit
+// or let a knee through. Cut for 30 degrees, CesiumMan's hem was 1.240 m round legs that need
+// 1.149 (1.264 with the limit), and its legs tore through the hem on every step.
+TEST(GarmentFit, FlaredSkirtsClearTheLegsInTheStridesOfTheirBody) {
+    std::vector<std::pair<std::string, detail::BodyAsset>> bodies = sharedHumanoidBodies();
+    bodies.emplace(bodies.begin(), "mannequin", detail::makeMannequinBody({}).value());
+    for (const auto& [name, body] : bodies) {
+        const Character& ch = body.character();
+        ClothAssetDesc d;
+        d.kind = GarmentKind::Skirt;
+        d.cut = GarmentCut::ALine;
+        auto fit = detail::fitGarment(d, body);
+        ASSERT_TRUE(fit.isOk()) << name << ": " << fit.status().message();
+        const double hemY = body.measurements.waist.height - fit.value().desc.length;
+        std::vector<std::array<uint32_t, 3>> legs;
+        for (const auto& t : ch.body.triangles)
+            if (isLeg(body.regions.vertices[t[0]])) legs.push_back(t);
+        double need = 0.0;
+        CharacterPose pose(ch);
+        std::vector<Vec3> posed(ch.body.vertexCount());
+        for (std::size_t c = 0; c < ch.clips.size(); ++c) {
+            if (!isStrideClip(ch, c)) continue;
+            for (int k = 0; k < 48; ++k) {
+                ASSERT_TRUE(pose.evaluate(ch, int(c), ch.clips[c].duration * k / 48.0, ClipWrap::Loop).isOk());
+                ASSERT_TRUE(skinVertices(ch.body, pose.skinMatrices(), posed, {}).isOk());
+                need = std::max(need, hullPerimeterAt(posed, legs, hemY));
+            }
+        }
+        const double hem = fit.value().desc.hemWidth;
+        std::printf("[ stride ] %s: widest stride %.0f degrees; the legs need %.3f m round at the hem, the A-line "
+                    "skirt's is %.3f m\n",
+                    name.c_str(), body.measurements.stride * 180.0 / M_PI, need, hem);
+        EXPECT_GT(hem, (1.0 + WorldDesc{}.strainLimit) * need) << name;
     }
 }
 

@@ -34,6 +34,8 @@ struct BodyMeasurements {
     BodyRing chest;                ///< under the arms
     BodyRing waist;                ///< the natural waist: narrowest torso section above the hips
     BodyRing hips;                 ///< widest section of hips and thighs
+    double stride = 0.0;           ///< [rad] widest stride of the body's clips (widestClipStride);
+                                   ///< 0 = none known
     std::string method;            ///< where the regions came from (BodyRegions::method)
 };
 

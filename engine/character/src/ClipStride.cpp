@@ -1,0 +1,72 @@
+#include "crowdcloth/character/ClipStride.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace cc {
+
+namespace {
+
+constexpr double kSampleRate = 30.0;  ///< [Hz] clip samples: a stride's extreme lasts a tenth of a second
+
+/// The first child of `joint`, or -1.
+int32_t firstChild(const Skeleton& skeleton, int32_t joint) {
+    for (std::size_t j = 0; j < skeleton.jointCount(); ++j)
+        if (skeleton.joints[j].parent == joint) return int32_t(j);
+    return -1;
+}
+
+/// The knee of the leg starting at `thigh`: the joint of its chain (first children down) nearest
+/// halfway between the thigh joint and the chain's end in the rest pose; -1 for a chain of one.
+int32_t kneeOf(const Skeleton& skeleton, const std::vector<Mat4>& rest, int32_t thigh) {
+    std::vector<int32_t> chain;
+    for (int32_t j = thigh; j >= 0 && chain.size() <= skeleton.jointCount(); j = firstChild(skeleton, j)) chain.push_back(j);
+    if (chain.size() < 2) return -1;
+    const double middle = 0.5 * (rest[std::size_t(chain.front())](1, 3) + rest[std::size_t(chain.back())](1, 3));
+    int32_t knee = -1;
+    double best = 0.0;
+    for (std::size_t k = 1; k < chain.size(); ++k) {
+        const double off = std::abs(rest[std::size_t(chain[k])](1, 3) - middle);
+        if (knee < 0 || off < best) knee = chain[k], best = off;
+    }
+    return knee;
+}
+
+} // namespace
+
+double widestClipStride(const Character& character, const BodyRegions& regions) {
+    const Skeleton& skeleton = character.skeleton;
+    const std::size_t n = skeleton.jointCount();
+    if (character.clips.empty() || n == 0) return 0.0;
+    for (int32_t thigh : regions.thigh)
+        if (thigh < 0 || std::size_t(thigh) >= n) return 0.0;
+    std::vector<Transform> local(n);
+    std::vector<Mat4> global(n);
+    skeleton.restPose(local);
+    skeleton.computeGlobalTransforms(local, global);
+    const int32_t knee[2] = {kneeOf(skeleton, global, regions.thigh[0]), kneeOf(skeleton, global, regions.thigh[1])};
+    if (knee[0] < 0 || knee[1] < 0) return 0.0;
+    const Vec3 up = Vec3::UnitY();
+    double widest = 0.0;
+    for (const AnimationClip& clip : character.clips) {
+        const int samples = 1 + int(std::ceil(clip.duration * kSampleRate));
+        for (int s = 0; s < samples; ++s) {
+            clip.evaluate(skeleton, std::min(clip.duration, s / kSampleRate), ClipWrap::Clamp, local);
+            skeleton.computeGlobalTransforms(local, global);
+            double angle[2];
+            for (int leg = 0; leg < 2; ++leg) {
+                const Vec3 d = global[std::size_t(knee[leg])].topRightCorner<3, 1>() -
+                               global[std::size_t(regions.thigh[leg])].topRightCorner<3, 1>();
+                angle[leg] = std::atan2(d.dot(regions.forward), -d.dot(up));
+            }
+            double between = std::abs(angle[0] - angle[1]);
+            if (between > kPi) between = 2.0 * kPi - between;
+            const double stride = 0.5 * between;
+            if (std::isfinite(stride)) widest = std::max(widest, stride);
+        }
+    }
+    return widest;
+}
+
+} // namespace cc
