@@ -489,7 +489,8 @@ Result<FittedGarment> fitTube(const ClothAssetDesc& design, const BodyAsset& bod
             const double need = polylineLength(ringAround(points, f, 0.0, 0.0, 1, 0.0, 2.0 * kPi), true);
             const double drop = std::max(0.0, m.hips.height - y);
             const double lateral = m.hips.halfWidth;
-            const double swing = 2.0 * (std::hypot(lateral, 2.0 * drop * std::sin(strideAngle)) - lateral);
+            const double swing =
+                2.0 * (std::hypot(lateral, 2.0 * drop * std::sin(strideAngle)) - lateral);
             needs.push_back({depth, need, need + swing});
             needMax = std::max(needMax, need);
         }

@@ -332,7 +332,8 @@ cloth::SubstepLane GarmentInstance::lane() {
     lane.frameAngularVelocity = context.angularVelocity;
     lane.frameAngularAcceleration = context.angularAcceleration;
     lane.fictitiousScale = mInertiaScale;
-    lane.velocityDamping = mAsset->desc.velocityDamping + kReleaseDamping * mReleaseLeft / kReleaseSeconds;
+    lane.velocityDamping =
+        mAsset->desc.velocityDamping + kReleaseDamping * mReleaseLeft / kReleaseSeconds;
     return lane;
 }
 
@@ -512,25 +513,31 @@ double GarmentInstance::compressionStiffness() const {
     return mAsset->desc.compressionStiffness * (1.0 - mReleaseLeft / kReleaseSeconds);
 }
 
+namespace {
+
+/// Calls f(length / rest length) for every strain-limited edge of `level` at `positions`.
+template <typename F>
+void forEachEdgeRatio(const cloth::ClothLevel& level, const std::vector<Vec3>& positions, F&& f) {
+    for (const cloth::LimitedEdge& e : level.limitedEdges()) {
+        const Vec3& a = positions[level.vertexOfNode()[e.a]];
+        const Vec3& b = positions[level.vertexOfNode()[e.b]];
+        f((b - a).norm() / e.restLength);
+    }
+}
+
+} // namespace
+
 double GarmentInstance::meanEdgeShortening() const {
     const cloth::ClothLevel& level = *mAsset->levels[mLevel].cloth;
     double sum = 0.0;
-    for (const cloth::LimitedEdge& e : level.limitedEdges()) {
-        const Vec3& a = mPositions[level.vertexOfNode()[e.a]];
-        const Vec3& b = mPositions[level.vertexOfNode()[e.b]];
-        sum += std::max(0.0, 1.0 - (b - a).norm() / e.restLength);
-    }
+    forEachEdgeRatio(level, mPositions, [&](double ratio) { sum += std::max(0.0, 1.0 - ratio); });
     return level.limitedEdges().empty() ? 0.0 : sum / double(level.limitedEdges().size());
 }
 
 double GarmentInstance::maxEdgeStrain() const {
-    const cloth::ClothLevel& level = *mAsset->levels[mLevel].cloth;
     double worst = 0.0;
-    for (const cloth::LimitedEdge& e : level.limitedEdges()) {
-        const Vec3& a = mPositions[level.vertexOfNode()[e.a]];
-        const Vec3& b = mPositions[level.vertexOfNode()[e.b]];
-        worst = std::max(worst, (b - a).norm() / e.restLength - 1.0);
-    }
+    forEachEdgeRatio(*mAsset->levels[mLevel].cloth, mPositions,
+                     [&](double ratio) { worst = std::max(worst, ratio - 1.0); });
     return worst;
 }
 

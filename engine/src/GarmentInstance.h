@@ -140,7 +140,8 @@ public:
     double specificKineticEnergy() const { return mSpecificKineticEnergy; }
     /// Largest (length / rest length - 1) over the level's strain-limited edges.
     double maxEdgeStrain() const;
-    /// The asset's compression stiffness, less while a compressed placement is released (mReleaseLeft).
+    /// The asset's compression stiffness, less while a compressed placement is released
+    /// (mReleaseLeft).
     double compressionStiffness() const;
     /// Mean of (1 - length / rest length) over the level's strain-limited edges, where shorter:
     /// the compression the state holds.
@@ -161,9 +162,11 @@ public:
 private:
     GarmentInstance() = default;
     static constexpr double kMaxContactReach = 0.25;  ///< [m] the farthest a contact query looks for the body
-    static constexpr double kReleaseSeconds = 1.0;     ///< [s] a compressed placement's release (mReleaseLeft)
-    static constexpr double kReleaseDamping = 50.0;    ///< [1/s] the air's damping added at its start
-    static constexpr double kReleaseShortening = 0.15; ///< [-] placed compression that asks for it
+    // A compressed placement's release (mReleaseLeft): how long [s], the air's damping added at its
+    // start [1/s], the mean shortening [-] that asks for it.
+    static constexpr double kReleaseSeconds = 1.0;
+    static constexpr double kReleaseDamping = 50.0;
+    static constexpr double kReleaseShortening = 0.15;
     Status bindAttachments(const CharacterInstance& character);
     /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses).
     Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
@@ -225,12 +228,12 @@ private:
     /// skirt's or dress's edges are 25-49 % shorter than cut on average (the mannequin and the
     /// shared humanoids), a poncho's 12-17 %, an A-line skirt's or dress's 3-23 %, a cape's 3-17 %.
     /// Against compression stiffness the cloth's weight is nothing (a metre-wide strip of a circle
-    /// skirt weighs 0.7 N; 30 % short at 0.1 x 5,000 N/m it pushes with 150): released at once it springs out
-    /// flat in a few frames, up round the arms (CesiumMan's circle skirt ended round its chest;
-    /// on the still mannequin its hem rose 19 cm at 12 m/s). A placement that holds more than
-    /// kReleaseShortening is released over kReleaseSeconds: its compression stiffness rises from 0
-    /// and the air's damping falls from kReleaseDamping, both linearly; the skirt then hangs (its
-    /// hem rose 7 mm, at most 2.5 m/s). A garment updated less often takes fewer updates for it.
+    /// skirt weighs 0.7 N; 30 % short at 0.1 x 5,000 N/m it pushes with 150): released at once it
+    /// springs out flat in a few frames, up round the arms (CesiumMan's circle skirt ended round
+    /// its chest; on the still mannequin its hem rose 19 cm at 12 m/s). A placement that holds more
+    /// than kReleaseShortening is released over kReleaseSeconds: its compression stiffness rises
+    /// from 0 and the air's damping falls from kReleaseDamping, both linearly; the skirt then hangs
+    /// (its hem rose 7 mm, at most 2.5 m/s). A garment updated less often takes fewer updates.
     double mReleaseLeft = 0.0;
     std::vector<Vec3> mPositions, mVelocities;   ///< [m], [m/s] per simulation vertex, character frame
     std::vector<Vec3> mSwapPositions, mSwapVelocities;  ///< level-switch scratch

@@ -651,8 +651,9 @@ bool WorldImpl::nextStepPhase() {
                         std::max(1, g.schedule.iterations), g.compressionStiffness(), i});
     }
     auto sameBatch = [](const Key& a, const Key& b) {
-        return a.asset == b.asset && a.level == b.level && a.substep == b.substep && a.substeps == b.substeps &&
-               a.iterations == b.iterations && a.compression == b.compression;
+        return a.asset == b.asset && a.level == b.level && a.substep == b.substep &&
+               a.substeps == b.substeps && a.iterations == b.iterations &&
+               a.compression == b.compression;
     };
     std::sort(keys.begin(), keys.end(), [&](const Key& a, const Key& b) {
         if (a.asset != b.asset) return a.asset < b.asset;

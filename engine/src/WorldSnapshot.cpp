@@ -282,9 +282,9 @@ Status GarmentInstance::restoreState(SnapshotReader& r) {
     if (!r.ok()) return Status::ok();
     const std::size_t n = mAsset->levels[level].active.simToVertex.size();
     const bool morphFits = morph.empty() || morph.size() == mAsset->renderVertexCount;
-    if (positions.size() != n || velocities.size() != n || !morphFits ||
-        morphFrames < 0 || morphFrames > kMorphFrames || (morphFrames > 0 && morph.empty()) ||
-        !(energy >= 0.0) || !(releaseLeft >= 0.0 && releaseLeft <= kReleaseSeconds)) {
+    if (positions.size() != n || velocities.size() != n || !morphFits || morphFrames < 0 ||
+        morphFrames > kMorphFrames || (morphFrames > 0 && morph.empty()) || !(energy >= 0.0) ||
+        !(releaseLeft >= 0.0 && releaseLeft <= kReleaseSeconds)) {
         r.fail("a garment's state does not match its asset (level " + std::to_string(level) + ", " +
                std::to_string(positions.size()) + " vertices)");
         return Status::ok();

@@ -5,7 +5,8 @@
 // strain and the strain's median and 95th percentile over the updates after the first half second.
 //
 //   cc_dress [--asset FILE] [--garment cape|skirt|dress|poncho] [--cut straight|aline|circle]
-//            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N] [--out DIR]
+//            [--clip NAME | --clip none | --clip-index I] [--seconds S] [--rate HZ] [--every N]
+//            [--out DIR]
 //            [--height M] [--width W --length L] [--speed M/S] [--compression C] [--damping S]
 //            [--level L] [--far S] [--self-collision]
 //
@@ -30,9 +31,9 @@
 #include <Eigen/Geometry>
 
 #include "crowdcloth/World.h"
-#include "crowdcloth/import/CharacterIO.h"
 #include "crowdcloth/core/Camera.h"
 #include "crowdcloth/core/Statistics.h"
+#include "crowdcloth/import/CharacterIO.h"
 #include "crowdcloth/render/OffscreenRenderer.h"
 
 namespace {
@@ -206,7 +207,7 @@ int main(int argc, char** argv) {
     };
     const int frames = int(std::lround(o.seconds * o.rate));
     double worstStrain = 0.0, worstAttachment = 0.0;
-    std::vector<double> strains;  // per update after the first half second
+    std::vector<double> strains; // per update after the first half second
     if (int rc = renderFrame(0); rc != 0) return rc;
     for (int f = 1; f <= frames; ++f) {
         root = o.speed * (f / o.rate) * forward;
@@ -237,10 +238,11 @@ int main(int argc, char** argv) {
         const double limit = wd.strainLimit;
         std::size_t over = 0;
         for (double s : strains) over += s > limit + 0.01;
-        std::printf("strain per update after 0.5 s: median %.1f %%, 95th percentile %.1f %%, %zu of %zu updates over "
+        std::printf("strain per update after 0.5 s: median %.1f %%, 95th percentile %.1f %%, %zu "
+                    "of %zu updates over "
                     "the %.0f %% limit by more than a point\n",
-                    100.0 * cc::percentile(strains, 0.5), 100.0 * cc::percentile(strains, 0.95), over, strains.size(),
-                    100.0 * limit);
+                    100.0 * cc::percentile(strains, 0.5), 100.0 * cc::percentile(strains, 0.95),
+                    over, strains.size(), 100.0 * limit);
     }
     return 0;
 }

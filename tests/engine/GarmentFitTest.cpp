@@ -353,7 +353,8 @@ TEST(GarmentFit, FlaredSkirtsClearTheLegsInAStride) {
 bool isStrideClip(const Character& ch, std::size_t c) {
     std::string name = ch.clips[c].name;
     for (char& k : name) k = char(std::tolower(static_cast<unsigned char>(k)));
-    return ch.clips.size() == 1 || name.find("walk") != std::string::npos || name.find("run") != std::string::npos;
+    return ch.clips.size() == 1 || name.find("walk") != std::string::npos ||
+           name.find("run") != std::string::npos;
 }
 
 // The stride the fit clears is the widest of the body's own clips (CesiumMan's walk reaches 47
@@ -382,13 +383,16 @@ TEST(GarmentFit, FlaredSkirtsClearTheLegsInTheStridesOfTheirBody) {
         for (std::size_t c = 0; c < ch.clips.size(); ++c) {
             if (!isStrideClip(ch, c)) continue;
             for (int k = 0; k < 48; ++k) {
-                ASSERT_TRUE(pose.evaluate(ch, int(c), ch.clips[c].duration * k / 48.0, ClipWrap::Loop).isOk());
+                ASSERT_TRUE(
+                    pose.evaluate(ch, int(c), ch.clips[c].duration * k / 48.0, ClipWrap::Loop)
+                        .isOk());
                 ASSERT_TRUE(skinVertices(ch.body, pose.skinMatrices(), posed, {}).isOk());
                 need = std::max(need, hullPerimeterAt(posed, legs, hemY));
             }
         }
         const double hem = fit.value().desc.hemWidth;
-        std::printf("[ stride ] %s: widest stride %.0f degrees; the legs need %.3f m round at the hem, the A-line "
+        std::printf("[ stride ] %s: widest stride %.0f degrees; the legs need %.3f m round at the "
+                    "hem, the A-line "
                     "skirt's is %.3f m\n",
                     name.c_str(), body.measurements.stride * 180.0 / M_PI, need, hem);
         EXPECT_GT(hem, (1.0 + WorldDesc{}.strainLimit) * need) << name;

@@ -18,9 +18,9 @@ namespace cc {
 namespace {
 
 struct Release {
-    double fastest = 0.0;     ///< [m/s] largest speed of a render vertex over the first second
-    double highestHem = 0.0;  ///< [m] highest the lowest render vertices' mean rose above its start
-    double length = 0.0;      ///< [m] the skirt as cut for the body
+    double fastest = 0.0;    ///< [m/s] largest speed of a render vertex over the first second
+    double highestHem = 0.0; ///< [m] highest the lowest render vertices' mean rose above its start
+    double length = 0.0;     ///< [m] the skirt as cut for the body
 };
 
 /// The first second of a skirt of `cut` on the mannequin standing still in its rest pose.
@@ -35,7 +35,7 @@ Release releaseOnStillBody(GarmentCut cut) {
     const AssetId asset = world->addClothAsset(assetDesc).value();
     CharacterDesc cd;
     cd.body = body;
-    cd.clip = nullptr;  // the rest pose
+    cd.clip = nullptr; // the rest pose
     const CharacterId character = world->addCharacter(cd).value();
     GarmentDesc gd;
     gd.forceLevel = int32_t(assetDesc.levelCount) - 1;
@@ -47,7 +47,7 @@ Release releaseOnStillBody(GarmentCut cut) {
 
     const double dt = 1.0 / 60.0;
     std::vector<Vec3> last;
-    std::vector<uint32_t> hem;  // the lowest tenth of the render vertices at the start
+    std::vector<uint32_t> hem; // the lowest tenth of the render vertices at the start
     double hemStart = 0.0;
     for (int f = 0; f <= 60; ++f) {
         if (f > 0) {
@@ -59,11 +59,13 @@ Release releaseOnStillBody(GarmentCut cut) {
         if (f == 0) {
             std::vector<uint32_t> order(now.size());
             for (uint32_t v = 0; v < order.size(); ++v) order[v] = v;
-            std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return now[a].y() < now[b].y(); });
+            std::sort(order.begin(), order.end(),
+                      [&](uint32_t a, uint32_t b) { return now[a].y() < now[b].y(); });
             hem.assign(order.begin(), order.begin() + std::max<std::size_t>(1, order.size() / 10));
             for (uint32_t v : hem) hemStart += now[v].y() / double(hem.size());
         } else {
-            for (std::size_t v = 0; v < now.size(); ++v) r.fastest = std::max(r.fastest, (now[v] - last[v]).norm() / dt);
+            for (std::size_t v = 0; v < now.size(); ++v)
+                r.fastest = std::max(r.fastest, (now[v] - last[v]).norm() / dt);
             double hemY = 0.0;
             for (uint32_t v : hem) hemY += now[v].y() / double(hem.size());
             r.highestHem = std::max(r.highestHem, hemY - hemStart);
@@ -76,7 +78,8 @@ Release releaseOnStillBody(GarmentCut cut) {
 TEST(PlacementRelease, ACompressedPlacementHangsInsteadOfSpringingOut) {
     const Release circle = releaseOnStillBody(GarmentCut::Circle);
     const Release aLine = releaseOnStillBody(GarmentCut::ALine);
-    std::printf("[ released on the still mannequin ] circle skirt: fastest %.2f m/s, hem rose %.0f mm; A-line skirt: "
+    std::printf("[ released on the still mannequin ] circle skirt: fastest %.2f m/s, hem rose %.0f "
+                "mm; A-line skirt: "
                 "fastest %.2f m/s, hem rose %.0f mm\n",
                 circle.fastest, 1e3 * circle.highestHem, aLine.fastest, 1e3 * aLine.highestHem);
     // Released from rest on a still body, cloth moves by its weight alone: no faster than falling

@@ -8,7 +8,8 @@ namespace cc {
 
 namespace {
 
-constexpr double kSampleRate = 30.0;  ///< [Hz] clip samples: a stride's extreme lasts a tenth of a second
+/// [Hz] clip samples: a stride's extreme lasts about a tenth of a second.
+constexpr double kSampleRate = 30.0;
 
 /// The first child of `joint`, or -1.
 int32_t firstChild(const Skeleton& skeleton, int32_t joint) {
@@ -21,9 +22,12 @@ int32_t firstChild(const Skeleton& skeleton, int32_t joint) {
 /// halfway between the thigh joint and the chain's end in the rest pose; -1 for a chain of one.
 int32_t kneeOf(const Skeleton& skeleton, const std::vector<Mat4>& rest, int32_t thigh) {
     std::vector<int32_t> chain;
-    for (int32_t j = thigh; j >= 0 && chain.size() <= skeleton.jointCount(); j = firstChild(skeleton, j)) chain.push_back(j);
+    for (int32_t j = thigh; j >= 0 && chain.size() <= skeleton.jointCount();
+         j = firstChild(skeleton, j))
+        chain.push_back(j);
     if (chain.size() < 2) return -1;
-    const double middle = 0.5 * (rest[std::size_t(chain.front())](1, 3) + rest[std::size_t(chain.back())](1, 3));
+    const double middle =
+        0.5 * (rest[std::size_t(chain.front())](1, 3) + rest[std::size_t(chain.back())](1, 3));
     int32_t knee = -1;
     double best = 0.0;
     for (std::size_t k = 1; k < chain.size(); ++k) {
@@ -45,14 +49,16 @@ double widestClipStride(const Character& character, const BodyRegions& regions) 
     std::vector<Mat4> global(n);
     skeleton.restPose(local);
     skeleton.computeGlobalTransforms(local, global);
-    const int32_t knee[2] = {kneeOf(skeleton, global, regions.thigh[0]), kneeOf(skeleton, global, regions.thigh[1])};
+    const int32_t knee[2] = {kneeOf(skeleton, global, regions.thigh[0]),
+                             kneeOf(skeleton, global, regions.thigh[1])};
     if (knee[0] < 0 || knee[1] < 0) return 0.0;
     const Vec3 up = Vec3::UnitY();
     double widest = 0.0;
     for (const AnimationClip& clip : character.clips) {
         const int samples = 1 + int(std::ceil(clip.duration * kSampleRate));
         for (int s = 0; s < samples; ++s) {
-            clip.evaluate(skeleton, std::min(clip.duration, s / kSampleRate), ClipWrap::Clamp, local);
+            clip.evaluate(skeleton, std::min(clip.duration, s / kSampleRate), ClipWrap::Clamp,
+                          local);
             skeleton.computeGlobalTransforms(local, global);
             double angle[2];
             for (int leg = 0; leg < 2; ++leg) {
