@@ -11,19 +11,12 @@
 #include "crowdcloth/character/BodyMeasurements.h"
 #include "crowdcloth/character/Mannequin.h"
 #include "crowdcloth/import/CharacterIO.h"
+#include "support/RestPose.h"
 
 namespace cc {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::vector<Vec3> restOf(const Character& ch) {
-    CharacterPose pose(ch);
-    EXPECT_TRUE(pose.evaluate(ch, -1, 0.0, ClipWrap::Clamp).isOk());
-    std::vector<Vec3> p(ch.body.vertexCount());
-    EXPECT_TRUE(skinVertices(ch.body, pose.skinMatrices(), p, {}).isOk());
-    return p;
-}
 
 void print(const char* what, const BodyMeasurements& m) {
     std::printf("%s (%s): height %.3f, crotch %.3f, hips %.3f (%.3f), waist %.3f (%.3f), chest %.3f (%.3f), shoulders %.3f "
@@ -36,7 +29,7 @@ void print(const char* what, const BodyMeasurements& m) {
 /// Measures a character the way BodyAsset does: regions at rest, arms relaxed to hang 0.2 rad
 /// from vertical when the rest pose holds them higher (T and A poses).
 Result<BodyMeasurements> measure(const Character& ch) {
-    const std::vector<Vec3> rest = restOf(ch);
+    const std::vector<Vec3> rest = test::restPositionsOf(ch);
     auto regions = findBodyRegions(ch, rest);
     if (!regions.isOk()) return regions.status();
     CharacterPose pose(ch);

@@ -13,19 +13,12 @@
 #include "crowdcloth/character/BodyRegions.h"
 #include "crowdcloth/character/Mannequin.h"
 #include "crowdcloth/import/CharacterIO.h"
+#include "support/RestPose.h"
 
 namespace cc {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::vector<Vec3> restOf(const Character& ch) {
-    CharacterPose pose(ch);
-    EXPECT_TRUE(pose.evaluate(ch, -1, 0.0, ClipWrap::Clamp).isOk());
-    std::vector<Vec3> p(ch.body.vertexCount());
-    EXPECT_TRUE(skinVertices(ch.body, pose.skinMatrices(), p, {}).isOk());
-    return p;
-}
 
 /// Regions coarse enough that every method must agree: what garments may hang from (torso and
 /// neck), the head, the arms, the legs.
@@ -117,7 +110,7 @@ double agreement(const BodyRegions& found, const Truth& truth) {
 
 TEST(BodyRegions, MannequinByItsJointNames) {
     const Mannequin m = buildMannequin().value();
-    auto r = findBodyRegions(m.character, restOf(m.character));
+    auto r = findBodyRegions(m.character, test::restPositionsOf(m.character));
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r.value().method, "joint names");
     EXPECT_GT(agreement(r.value(), truthOf(m)), 0.99);
@@ -192,7 +185,7 @@ TEST(BodyRegions, EveryCommonRigNamingConvention) {
     };
     for (const auto& [convention, names] : conventions) {
         const Character c = renamed(names);
-        auto r = findBodyRegions(c, restOf(c));
+        auto r = findBodyRegions(c, test::restPositionsOf(c));
         ASSERT_TRUE(r.isOk()) << convention << ": " << r.status().message();
         EXPECT_EQ(r.value().method, "joint names") << convention;
         const double a = agreement(r.value(), truth);
@@ -210,7 +203,7 @@ TEST(BodyRegions, SkeletonStructureWhenTheNamesSayNothing) {
     const Mannequin m = buildMannequin().value();
     Character c = m.character;
     for (std::size_t j = 0; j < c.skeleton.jointCount(); ++j) c.skeleton.joints[j].name = "bone" + std::to_string(j);
-    auto r = findBodyRegions(c, restOf(c));
+    auto r = findBodyRegions(c, test::restPositionsOf(c));
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_EQ(r.value().method, "skeleton structure");
     const double a = agreement(r.value(), truthOf(m));
@@ -244,7 +237,7 @@ TEST(BodyRegions, TurnedBodiesKeepTheirRegionsAndFacing) {
     Character c = buildMannequin().value().character;
     const Mat3 turn = Eigen::AngleAxisd(2.0, Vec3::UnitY()).toRotationMatrix();  // facing elsewhere
     ASSERT_TRUE(changeBasis(c, 1.0, turn).isOk());
-    auto r = findBodyRegions(c, restOf(c));
+    auto r = findBodyRegions(c, test::restPositionsOf(c));
     ASSERT_TRUE(r.isOk()) << r.status().message();
     EXPECT_LT((r.value().forward - turn * Vec3::UnitZ()).norm(), 1e-6);
     auto g = findBodyRegionsFromGeometry(c.body);
@@ -284,7 +277,7 @@ TEST(BodyRegions, SharedHumanoidsByJointNamesAndByGeometry) {
         if (!fs::exists(dir / name)) continue;
         auto ch = importCharacter((dir / name).string());
         ASSERT_TRUE(ch.isOk()) << ch.status().message();
-        auto r = findBodyRegions(ch.value(), restOf(ch.value()));
+        auto r = findBodyRegions(ch.value(), test::restPositionsOf(ch.value()));
         ASSERT_TRUE(r.isOk()) << name << ": " << r.status().message();
         std::array<std::size_t, 7> count{};
         for (BodyRegion g : r.value().vertices) ++count[std::size_t(g)];
@@ -298,7 +291,7 @@ TEST(BodyRegions, SharedHumanoidsByJointNamesAndByGeometry) {
 
         // The same body as a host would hand it in, without its skeleton: geometry alone.
         SkinnedMesh posed = ch.value().body;
-        posed.bindPositions = restOf(ch.value());
+        posed.bindPositions = test::restPositionsOf(ch.value());
         auto g = findBodyRegionsFromGeometry(posed);
         ASSERT_TRUE(g.isOk()) << name << " by geometry: " << g.status().message();
         std::size_t same = 0, anchors = 0, wrongAnchors = 0;

@@ -10,6 +10,9 @@ namespace {
 
 /// [Hz] clip samples: a stride's extreme lasts about a tenth of a second.
 constexpr double kSampleRate = 30.0;
+/// Most samples of one clip (two minutes at kSampleRate; a longer clip, or a file's absurd
+/// duration, is sampled this many times evenly).
+constexpr int kMostSamples = 3600;
 
 /// The first child of `joint`, or -1.
 int32_t firstChild(const Skeleton& skeleton, int32_t joint) {
@@ -55,10 +58,11 @@ double widestClipStride(const Character& character, const BodyRegions& regions) 
     const Vec3 up = Vec3::UnitY();
     double widest = 0.0;
     for (const AnimationClip& clip : character.clips) {
-        const int samples = 1 + int(std::ceil(clip.duration * kSampleRate));
+        const int samples =
+            1 + int(std::min(std::ceil(clip.duration * kSampleRate), double(kMostSamples)));
         for (int s = 0; s < samples; ++s) {
-            clip.evaluate(skeleton, std::min(clip.duration, s / kSampleRate), ClipWrap::Clamp,
-                          local);
+            const double time = samples > 1 ? clip.duration * s / double(samples - 1) : 0.0;
+            clip.evaluate(skeleton, time, ClipWrap::Clamp, local);
             skeleton.computeGlobalTransforms(local, global);
             double angle[2];
             for (int leg = 0; leg < 2; ++leg) {
