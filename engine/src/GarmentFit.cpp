@@ -18,7 +18,7 @@ namespace {
 /// [rad] how far a thigh swings forward (and the other back) in a stride: skirts and dresses are
 /// cut wide enough to clear both knees at this swing (a walk swings ~20-25 degrees, a run more),
 /// or at the widest stride of the body's own clips where that is wider (measured: CesiumMan's
-/// walk 47 degrees, RobotExpressive's run 69; cut for 30, their legs tore through the hem), up to
+/// walk 47 degrees, RobotExpressive's run 68; cut for 30, their legs tore through the hem), up to
 /// kWidestStride (a split or a fall is no stride to cut for).
 constexpr double kStrideAngle = 30.0 * kPi / 180.0;
 constexpr double kWidestStride = 75.0 * kPi / 180.0;

@@ -143,9 +143,6 @@ public:
     /// The asset's compression stiffness, less while a compressed placement is released
     /// (mReleaseLeft).
     double compressionStiffness() const;
-    /// Mean of (1 - length / rest length) over the level's strain-limited edges, where shorter:
-    /// the compression the state holds.
-    double meanEdgeShortening() const;
     /// [m] largest distance of an attached vertex from its target after the last update.
     double attachmentError() const;
     uint64_t hash() const;
@@ -168,6 +165,9 @@ private:
     static constexpr double kReleaseDamping = 50.0;
     static constexpr double kReleaseShortening = 0.15;
     Status bindAttachments(const CharacterInstance& character);
+    /// Mean of (1 - length / rest length) over the level's strain-limited edges, where shorter:
+    /// the compression the state holds.
+    double meanEdgeShortening() const;
     /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses).
     Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
     /// One level finer (+1) or coarser (-1) through the cooked transfers, positions and velocities.

@@ -1,6 +1,7 @@
 // The widest stride of a character's clips (the A-line cut's allowance), against clips whose thigh
 // angles are known.
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -59,6 +60,42 @@ TEST(ClipStride, TheWidestHalfAngleBetweenTheThighs) {
     BodyRegions legless = regions;
     legless.thigh = {-1, -1};
     EXPECT_EQ(widestClipStride(ch, legless), 0.0) << "no legs";
+}
+
+/// `ch` with a helper leaf (a twist joint at the hip) inserted as each thigh's first child, before
+/// the shin, and `regions` and its clips renumbered to match (the body is left alone: the stride
+/// reads the skeleton and the clips only).
+Character withTwistJoints(const Character& ch, BodyRegions& regions) {
+    Character out = ch;
+    for (int leg = 0; leg < 2; ++leg) {
+        const int32_t thigh = regions.thigh[std::size_t(leg)];
+        const int32_t at = thigh + 1;
+        auto shift = [&](int32_t& j) {
+            if (j >= at) ++j;
+        };
+        for (Joint& j : out.skeleton.joints) shift(j.parent);
+        Joint twist;
+        twist.name = "thigh_twist_" + std::to_string(leg);
+        twist.parent = thigh;
+        out.skeleton.joints.insert(out.skeleton.joints.begin() + at, twist);
+        for (AnimationClip& clip : out.clips)
+            for (JointChannel& c : clip.channels) shift(c.joint);
+        for (int32_t& j : regions.thigh) shift(j);
+        for (int32_t& j : regions.upperArm) shift(j);
+    }
+    return out;
+}
+
+TEST(ClipStride, TwistJointsBesideTheShinArePassedOver) {
+    const Character ch = buildMannequin().value().character;
+    const BodyRegions plain = findBodyRegions(ch, test::restPositionsOf(ch)).value();
+    BodyRegions regions = plain;
+    Character twisted = withTwistJoints(ch, regions);
+    twisted.clips = {strideClip(twisted, regions, 0.5)};
+    // The helper is each thigh's first child; the first-child chain would stop at it, at the hip.
+    for (int32_t thigh : regions.thigh)
+        ASSERT_EQ(twisted.skeleton.joints[std::size_t(thigh) + 1].parent, thigh);
+    EXPECT_NEAR(widestClipStride(twisted, regions), 0.5, 0.01);
 }
 
 TEST(ClipStride, AnAbsurdDurationIsSampledBoundedly) {

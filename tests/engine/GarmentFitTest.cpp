@@ -358,7 +358,7 @@ bool isStrideClip(const Character& ch, std::size_t c) {
 }
 
 // The stride the fit clears is the widest of the body's own clips (CesiumMan's walk reaches 47
-// degrees, RobotExpressive's run 69). Checked by posing each body over its walks and runs and
+// degrees, RobotExpressive's run 68). Checked by posing each body over its walks and runs and
 // measuring the ring the legs need at the hem's height, independently of the fit's own stride
 // measure: a hem shorter than that ring stretched by the strain limit must stretch past the limit
 // or let a knee through. Cut for 30 degrees, CesiumMan's hem was 1.240 m round legs that need

@@ -14,20 +14,27 @@ constexpr double kSampleRate = 30.0;
 /// duration, is sampled this many times evenly).
 constexpr int kMostSamples = 3600;
 
-/// The first child of `joint`, or -1.
-int32_t firstChild(const Skeleton& skeleton, int32_t joint) {
-    for (std::size_t j = 0; j < skeleton.jointCount(); ++j)
-        if (skeleton.joints[j].parent == joint) return int32_t(j);
-    return -1;
-}
-
-/// The knee of the leg starting at `thigh`: the joint of its chain (first children down) nearest
-/// halfway between the thigh joint and the chain's end in the rest pose; -1 for a chain of one.
+/// The knee of the leg starting at `thigh`: down the leg's main chain (at each joint the child
+/// with the most joints below it, so a twist or helper leaf beside the shin is passed over), the
+/// joint nearest halfway between the thigh joint and the chain's end in the rest pose; -1 for a
+/// chain of one.
 int32_t kneeOf(const Skeleton& skeleton, const std::vector<Mat4>& rest, int32_t thigh) {
-    std::vector<int32_t> chain;
-    for (int32_t j = thigh; j >= 0 && chain.size() <= skeleton.jointCount();
-         j = firstChild(skeleton, j))
-        chain.push_back(j);
+    const std::size_t n = skeleton.jointCount();
+    // Joints below each joint, itself included (parents precede their children).
+    std::vector<uint32_t> below(n, 1);
+    for (std::size_t j = n; j-- > 0;)
+        if (const int32_t parent = skeleton.joints[j].parent; parent >= 0)
+            below[std::size_t(parent)] += below[j];
+    std::vector<int32_t> chain{thigh};
+    for (;;) {
+        int32_t next = -1;
+        for (std::size_t j = std::size_t(chain.back()) + 1; j < n; ++j)
+            if (skeleton.joints[j].parent == chain.back() &&
+                (next < 0 || below[j] > below[std::size_t(next)]))
+                next = int32_t(j);
+        if (next < 0) break;
+        chain.push_back(next);
+    }
     if (chain.size() < 2) return -1;
     const double middle =
         0.5 * (rest[std::size_t(chain.front())](1, 3) + rest[std::size_t(chain.back())](1, 3));
