@@ -4,6 +4,7 @@
 // from a converged reference and prints `BAR presets` (is each preset, at the level its tolerance
 // gets at the study camera, on every scene's front? README, "Speed against accuracy").
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "crowdcloth/World.h"
@@ -29,9 +30,12 @@ constexpr PresetValues kPresets[] = {
 
 } // namespace
 
-WorldDesc::Effort WorldDesc::effortAt(uint32_t level, uint32_t levelCount) const {
+WorldDesc::Effort WorldDesc::effortAt(uint32_t level, uint32_t levelCount, double frameDt) const {
     const int below = std::max(0, int(levelCount) - 1 - int(level));
-    return {uint32_t(std::max(1, int(substeps) >> ((below + 1) / 2))),
+    const int perEffortFrame = std::max(1, int(substeps) >> ((below + 1) / 2));
+    // Rounded, so that frame times jittering about 1/60 s keep the substeps (and their factors).
+    const double scaled = std::round(double(perEffortFrame) * frameDt / kEffortFrame);
+    return {uint32_t(std::clamp(scaled, 1.0, 64.0)), // 64: the most substeps a desc may name
             uint32_t(std::max(1, int(solverIterations) - below))};
 }
 

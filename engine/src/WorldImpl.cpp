@@ -295,7 +295,8 @@ Status WorldImpl::scheduleFrame(double dt) {
             } else {
                 lp.errorMetres = level.errorMetres;
             }
-            const WorldDesc::Effort effort = mDesc.effortAt(uint32_t(l), uint32_t(record.asset->levels.size()));
+            const WorldDesc::Effort effort =
+                mDesc.effortAt(uint32_t(l), uint32_t(record.asset->levels.size()), dt);
             lp.substeps = int(effort.substeps);
             lp.iterations = int(effort.iterations);
             // The solve with capsules, and what the body mesh adds to it.

@@ -1,7 +1,8 @@
-// WorldDesc::effortAt: the finest level gets the desc's substeps and iterations, coarser levels less,
-// never none. WorldDesc::applyPreset and cc_world_desc_apply_preset: three ordered choices of speed
-// against accuracy that leave the host's other settings alone, refuse what is not a preset, and step
-// a walking crowd stably; a far garment gets a coarser level under Fast than under Quality.
+// WorldDesc::effortAt: the finest level gets the desc's substeps and iterations, coarser levels
+// less, never none; a frame longer or shorter than 1/60 s more or fewer substeps of the same
+// length. WorldDesc::applyPreset and cc_world_desc_apply_preset: three ordered choices of speed
+// against accuracy that leave the host's other settings alone, refuse what is not a preset, and
+// step a walking crowd stably; a far garment gets a coarser level under Fast than under Quality.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -41,6 +42,59 @@ TEST(SolverEffort, FinestLevelGetsTheDescsEffortCoarserLevelsLessButAtLeastOne) 
         EXPECT_EQ(desc.effortAt(l, levels).substeps, 1u);
         EXPECT_EQ(desc.effortAt(l, levels).iterations, 1u);
     }
+}
+
+TEST(SolverEffort, ALongerFrameGetsSubstepsOfTheSameLength) {
+    WorldDesc desc;
+    desc.substeps = 4, desc.solverIterations = 3;
+    const uint32_t levels = 5;
+    for (uint32_t l = 0; l < levels; ++l) {
+        const WorldDesc::Effort at60 = desc.effortAt(l, levels);
+        EXPECT_EQ(desc.effortAt(l, levels, 1.0 / 60.0).substeps, at60.substeps) << "level " << l;
+        // Frame times jittering about 1/60 s keep their substeps (and the factors built for them).
+        EXPECT_EQ(desc.effortAt(l, levels, 1.0 / 59.0).substeps, at60.substeps) << "level " << l;
+        EXPECT_EQ(desc.effortAt(l, levels, 1.0 / 61.0).substeps, at60.substeps) << "level " << l;
+        const WorldDesc::Effort at30 = desc.effortAt(l, levels, 1.0 / 30.0);
+        EXPECT_EQ(at30.substeps, 2 * at60.substeps) << "level " << l;
+        EXPECT_EQ(at30.iterations, at60.iterations) << "iterations are per substep: level " << l;
+        EXPECT_NEAR((1.0 / 30.0) / at30.substeps, (1.0 / 60.0) / at60.substeps, 1e-15)
+            << "level " << l;
+        EXPECT_EQ(desc.effortAt(l, levels, 1.0 / 15.0).substeps, 4 * at60.substeps)
+            << "level " << l;
+        // Shorter frames: fewer, never none.
+        EXPECT_EQ(desc.effortAt(l, levels, 1.0 / 120.0).substeps, std::max(1u, at60.substeps / 2))
+            << "level " << l;
+        EXPECT_EQ(desc.effortAt(l, levels, 1e-6).substeps, 1u) << "level " << l;
+    }
+    desc.substeps = 64; // the most a desc names: a long frame stays within it
+    EXPECT_EQ(desc.effortAt(levels - 1, levels, 0.1).substeps, 64u);
+}
+
+/// The substeps a cape's update ran at its finest level on the walking mannequin, at `rate` [Hz].
+uint32_t substepsOfAnUpdate(double rate) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    test::WorldPtr world(World::create(desc).value());
+    const auto crowd = test::addWalkingCrowd(*world, world->addClothAsset({}).value(), 1);
+    EXPECT_TRUE(
+        world->setGarmentLevel(crowd.garments[0], int32_t(ClothAssetDesc{}.levelCount) - 1).isOk());
+    uint32_t substeps = 0;
+    for (int frame = 1; frame <= 3; ++frame) {
+        test::walkCrowd(*world, crowd, frame / rate);
+        const Status s = world->step(1.0 / rate);
+        EXPECT_TRUE(s.isOk()) << s.message();
+        const GarmentStats stats = world->garmentStats(crowd.garments[0]).value();
+        EXPECT_TRUE(stats.updated && !stats.failed) << "frame " << frame;
+        substeps = stats.substeps;
+    }
+    return substeps;
+}
+
+TEST(SolverEffort, TheWorldRunsAHostsLongerFrameInMoreSubsteps) {
+    const uint32_t finest = WorldDesc{}.substeps;
+    EXPECT_EQ(substepsOfAnUpdate(60.0), finest);
+    EXPECT_EQ(substepsOfAnUpdate(30.0), 2 * finest);
+    EXPECT_EQ(substepsOfAnUpdate(120.0), finest / 2);
 }
 
 TEST(QualityPreset, PresetsAreOrderedAndLeaveTheRestOfTheDescAlone) {

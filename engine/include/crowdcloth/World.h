@@ -47,9 +47,10 @@ struct CC_API WorldDesc {
     TaskRunner taskRunner = nullptr;  ///< the host's job system for the garment tasks; null = OpenMP
     void* taskRunnerUserData = nullptr;
     uint32_t maxUpdateInterval = 16;  ///< [frames] slowest update of a far garment, power of two
-    uint32_t substeps = 4;            ///< [-] solver substeps per update at an asset's finest level
-                                      ///< (backward Euler in small steps; accuracy grows with them);
-                                      ///< every second coarser level takes half; [1, 64]
+    uint32_t substeps = 4;            ///< [-] solver substeps per update of a 1/60 s frame at an
+                                      ///< asset's finest level (backward Euler in small steps;
+                                      ///< accuracy grows with them); every second coarser level
+                                      ///< takes half; a longer frame takes more (effortAt); [1, 64]
     uint32_t solverIterations = 4;    ///< [-] conjugate-gradient iterations per substep on the
                                       ///< shared factor at the finest level; each coarser level one
                                       ///< fewer (at least 1); [1, 100]
@@ -74,11 +75,18 @@ struct CC_API WorldDesc {
     /// The solver work per update a garment gets at `level` of an asset with `levelCount` levels:
     /// substeps and iterations at the finest level; each coarser level one iteration fewer and
     /// every second one half the substeps (at least one each), since a coarse level's heavier nodes
-    /// condition its system better and its picture is coarse anyway.
+    /// condition its system better and its picture is coarse anyway. The substeps are those of a
+    /// 1/60 s frame: a frame of `frameDt` [s] gets them in proportion (rounded, at least one), so
+    /// a substep stays as long whatever the host's frame rate (as NvCloth's solver frequency is
+    /// per second), at most 64. A host at 30 Hz then pays per second what one at 60 Hz does, and
+    /// its cloth stretches less: the humanoid suite's 30 Hz cases went from 333 to 298 of 540
+    /// updates past the strain limit, a poncho on the walking mannequin from 75 % to 24 % median
+    /// strain (README, Any humanoid).
     struct Effort {
         uint32_t substeps, iterations;
     };
-    Effort effortAt(uint32_t level, uint32_t levelCount) const;
+    static constexpr double kEffortFrame = 1.0 / 60.0; ///< [s] the frame `substeps` is given for
+    Effort effortAt(uint32_t level, uint32_t levelCount, double frameDt = kEffortFrame) const;
 };
 
 enum class GarmentKind : uint32_t {

@@ -52,7 +52,8 @@ typedef struct cc_world_desc {
     cc_task_runner task_runner;    /* the host's job system for the garment tasks; NULL = OpenMP */
     void* task_runner_user_data;
     uint32_t max_update_interval;  /* [frames] power of two in [1, 64] */
-    uint32_t substeps;             /* solver substeps per update at the finest level; [1, 64] */
+    uint32_t substeps;             /* solver substeps per update of a 1/60 s frame at the finest
+                                      level (a longer frame gets more); [1, 64] */
     uint32_t solver_iterations;    /* CG iterations per substep at the finest level; [1, 100] */
     uint32_t batch_size;           /* garments stepped together per solver call; [1, 8] */
     double strain_limit;           /* [-] Provot edge strain limit; 0 = off; [0, 10] */
