@@ -2,7 +2,8 @@
 // frames) to full screen (the finest level against the body mesh, every frame) in one frame. Far
 // away the coarse cloth lies partly inside the body mesh, tangled with it (a cape's hem between
 // the legs); close up it must not: checked independently of the solver (winding numbers over the
-// posed body) and by the strain limit.
+// posed body) and by the strain limit. A garment refined on the mesh (a camera coming nearer) goes
+// on from where it was instead of starting again from its placement.
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -125,6 +126,79 @@ TEST(CameraCut, FromTheCapsulesAtTheFinestLevelTheGarmentSettlesOntoTheMesh) {
         EXPECT_EQ(r.restarts, 0) << test::kindName(kind);
         EXPECT_LE(r.after.deepest, kThickness) << test::kindName(kind);
         EXPECT_LE(r.worstStrain, kStrainBound) << test::kindName(kind);
+    }
+}
+
+/// A garment on the walking mannequin stepped against the mesh one level below its finest, then,
+/// from frame `refine` on, at the finest (a camera coming nearer): restarts and the worst strain
+/// over the second after.
+struct RefineResult {
+    int restarts = 0;
+    double worstStrain = 0.0;
+};
+
+RefineResult runRefine(GarmentKind kind, int refine) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    WorldPtr world(World::create(desc).value());
+    ClothAssetDesc asset;
+    asset.kind = kind;
+    const AssetId assetId = world->addClothAsset(asset).value();
+    CharacterDesc cd;
+    cd.body = world->addMannequinBody({}).value();
+    cd.clip = "walk";
+    const CharacterId character = world->addCharacter(cd).value();
+    GarmentDesc gd;
+    gd.forceLevel = int(asset.levelCount) - 2;
+    const GarmentId garment = world->addGarment(assetId, character, gd).value();
+    const double dt = 1.0 / 60.0, speed = 1.35;
+    RefineResult r;
+    for (int f = 1; f <= refine + 60; ++f) {
+        if (f == refine) {
+            EXPECT_TRUE(world->setGarmentLevel(garment, int(asset.levelCount) - 1).isOk());
+        }
+        const double z = speed * f * dt, position[3] = {0.0, 0.0, z};
+        EXPECT_TRUE(world->setCharacterRoot(character, position, 0.0).isOk());
+        const CameraDesc camera = test::cameraLookingAt(Vec3(-1.2, 1.4, z - 2.2), Vec3(0, 1.0, z));
+        EXPECT_TRUE(world->setCameras(&camera, 1).isOk());
+        EXPECT_TRUE(world->step(dt).isOk());
+        const GarmentStats stats = world->garmentStats(garment).value();
+        EXPECT_FALSE(stats.failed) << test::kindName(kind) << " frame " << f;
+        EXPECT_GE(stats.collision, CollisionKind::Mesh) << "close up: the body mesh";
+        if (f < refine) continue;
+        r.restarts += stats.restarted;
+        r.worstStrain = std::max(r.worstStrain, stats.maxStrain);
+    }
+    return r;
+}
+
+TEST(CameraCut, RefinedOnTheMeshTheGarmentGoesOnWhereItWas) {
+    // Refined on the mesh, a garment's settle leaves the strain of its pushes (capes 31-58 %),
+    // which the next solve's limit takes back; judged a tangle at three times the limit, a cape
+    // went back to its flat placement after 4 of these 8 refines (and after half of 16 in steps of
+    // 8 frames).
+    const double limit = WorldDesc{}.strainLimit;
+    for (GarmentKind kind : test::kGarmentKinds) {
+        int restarts = 0;
+        double worst = 0.0;
+        for (int refine = 40; refine <= 152; refine += 16) {
+            const RefineResult r = runRefine(kind, refine);
+            restarts += r.restarts;
+            worst = std::max(worst, r.worstStrain);
+        }
+        std::printf("%s refined on the mesh at 8 moments of a walk: %d restart(s), max strain over "
+                    "the second "
+                    "after %.0f %%\n",
+                    test::kindName(kind), restarts, 100.0 * worst);
+        if (kind == GarmentKind::Cape || kind == GarmentKind::Skirt) {
+            EXPECT_EQ(restarts, 0) << test::kindName(kind);
+            EXPECT_LE(worst, limit + 0.01)
+                << test::kindName(kind) << ": back within the strain limit";
+        } else {
+            // The dress and the poncho can be caught round the arms: measured 1 and 2 restarts (2
+            // and 2 before), from vertices the settle left inside or the strain after the solve.
+            EXPECT_LE(restarts, 5) << test::kindName(kind);
+        }
     }
 }
 
