@@ -245,6 +245,9 @@ Status applyLandmarks(BodyAsset& body, const BodyLandmarkDesc& l) {
         if (!std::isfinite(heights[k])) return Status::invalidArgument(std::string("BodyLandmarkDesc.") + names[k] + " must be finite");
     for (double g : {l.neckGirth, l.chestGirth, l.waistGirth, l.hipGirth, l.shoulderWidth})
         if (!(std::isfinite(g) && g >= 0.0)) return Status::invalidArgument("BodyLandmarkDesc girths and widths must be >= 0");
+    if (!(l.stride >= 0.0 && l.stride < 0.5 * kPi))
+        return Status::invalidArgument("BodyLandmarkDesc.stride must be in [0, pi/2) rad, got " +
+                                       std::to_string(l.stride));
     if (!(l.hipY < l.waistY && l.waistY < l.chestY && l.chestY < l.shoulderY && l.chestY < l.neckY))
         return Status::invalidArgument("BodyLandmarkDesc: heights must rise hipY < waistY < chestY < shoulderY, chestY < neckY");
 
@@ -300,6 +303,7 @@ Status applyLandmarks(BodyAsset& body, const BodyLandmarkDesc& l) {
         const Vec3 tip = Vec3(centre.x(), l.shoulderY, centre.z()) + sign * 0.5 * m.shoulderWidth * m.left;
         (side == 0 ? m.leftShoulder : m.rightShoulder) = tip;
     }
+    if (l.stride > 0.0) m.stride = l.stride; // else what the clips showed, if any
     m.method = "host landmarks";
     body.measurements = m;
     if (!regions) {
@@ -338,6 +342,7 @@ BodyLandmarkDesc landmarksOf(const BodyAsset& body) {
     l.chestY = m.chest.height, l.chestGirth = m.chest.girth;
     l.waistY = m.waist.height, l.waistGirth = m.waist.girth;
     l.hipY = m.hips.height, l.hipGirth = m.hips.girth;
+    l.stride = m.stride;
     return l;
 }
 

@@ -37,9 +37,10 @@
 #define CC_BODY_FIELDS(X) X(height, height)
 #define CC_LANDMARK_FIELDS(X)                                                                      \
     X(forward, forward)                                                                            \
-    X(neck_y, neckY) X(shoulder_y, shoulderY) X(chest_y, chestY) X(waist_y, waistY) X(hip_y, hipY) \
+    X(neck_y, neckY)                                                                               \
+    X(shoulder_y, shoulderY) X(chest_y, chestY) X(waist_y, waistY) X(hip_y, hipY)                  \
         X(neck_girth, neckGirth) X(chest_girth, chestGirth) X(waist_girth, waistGirth)             \
-            X(hip_girth, hipGirth) X(shoulder_width, shoulderWidth)
+            X(hip_girth, hipGirth) X(shoulder_width, shoulderWidth) X(stride, stride)
 #define CC_CHARACTER_FIELDS(X)                                                                     \
     X(body, body)                                                                                  \
     X(clip, clip) X(clip_index, clipIndex) X(clip_time, clipTime) X(clip_phase, clipPhase)         \

@@ -1,6 +1,7 @@
 // Garments fitted to the body: sizes derived from the body unless given, sizes too small refused
 // naming the size, attachments only on the torso's skin, flared cuts that clear the legs in a
-// stride, and clear errors for bodies garments cannot be fitted to.
+// stride (the body's clips' or the host's), and clear errors for bodies garments cannot be fitted
+// to.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -397,6 +398,38 @@ TEST(GarmentFit, FlaredSkirtsClearTheLegsInTheStridesOfTheirBody) {
                     name.c_str(), body.measurements.stride * 180.0 / M_PI, need, hem);
         EXPECT_GT(hem, (1.0 + WorldDesc{}.strainLimit) * need) << name;
     }
+}
+
+TEST(GarmentFit, AStrideTheHostGivesWidensTheSkirtsItCuts) {
+    // A host-skinned body has no clips to measure a stride from: its host can give one, and the
+    // landmarks report the one the clips showed.
+    WorldPtr world = makeFittingWorld();
+    const BodyId body = world->addMannequinBody({}).value();
+    BodyLandmarkDesc l = world->bodyLandmarks(body).value();
+    const double measured = l.stride;
+    EXPECT_GE(measured, 20.0 * M_PI / 180.0) << "the mannequin's walk and run are strides";
+    ClothAssetDesc design;
+    design.kind = GarmentKind::Skirt;
+    design.cut = GarmentCut::ALine;
+    const double hemMeasured = fitOn(*world, body, design).value().hemWidth;
+    l.stride = 60.0 * M_PI / 180.0; // wider than the mannequin's own (and the 30 degree floor)
+    ASSERT_TRUE(world->setBodyLandmarks(body, l).isOk());
+    EXPECT_EQ(world->bodyLandmarks(body).value().stride, l.stride);
+    const double hemWide = fitOn(*world, body, design).value().hemWidth;
+    std::printf("[ stride ] the mannequin's %.0f degrees: hem %.3f m; given 60: %.3f m\n",
+                measured * 180.0 / M_PI, hemMeasured, hemWide);
+    EXPECT_GT(hemWide, hemMeasured * 1.05) << "a wider stride needs a wider hem";
+    // 0 keeps what is known; a stride out of range is refused by name, and changes nothing.
+    l.stride = 0.0;
+    ASSERT_TRUE(world->setBodyLandmarks(body, l).isOk());
+    EXPECT_EQ(world->bodyLandmarks(body).value().stride, 60.0 * M_PI / 180.0);
+    for (double bad : {-0.1, 0.5 * M_PI, std::nan("")}) {
+        l.stride = bad;
+        const Status refused = world->setBodyLandmarks(body, l);
+        EXPECT_FALSE(refused.isOk()) << bad;
+        EXPECT_NE(refused.message().find("stride"), std::string::npos) << refused.message();
+    }
+    EXPECT_EQ(world->bodyLandmarks(body).value().stride, 60.0 * M_PI / 180.0);
 }
 
 /// How far the torso and arms of `body`, posed over one walk cycle, need more round than a poncho

@@ -185,6 +185,11 @@ struct BodyLandmarkDesc {
     double waistGirth = 0.0;        ///< [m] 0 = measured at waistY
     double hipGirth = 0.0;          ///< [m] 0 = measured at hipY
     double shoulderWidth = 0.0;     ///< [m] outer shoulder to outer shoulder; 0 = measured
+    double stride = 0.0;            ///< [rad] how far each thigh swings from the vertical in the
+                                    ///< body's widest stride, seen from the side: skirts and
+                                    ///< dresses are cut to clear the knees there (30 degrees at
+                                    ///< least, 75 at most); 0 = measured from the body's clips (a
+                                    ///< host-skinned body has none: 30 degrees); [0, pi/2)
 };
 
 /// One animated character in the world.

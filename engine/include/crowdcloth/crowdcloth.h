@@ -35,7 +35,7 @@ typedef enum cc_status {
  * half. create/add calls reject unstamped structs and structs of another layout (older or newer
  * headers than the library), naming the desc and both layouts. */
 #define CC_DESC_MAGIC 0x43430000u
-#define CC_DESC_VERSION (CC_DESC_MAGIC | 5u)
+#define CC_DESC_VERSION (CC_DESC_MAGIC | 6u)
 
 typedef struct cc_world cc_world;
 
@@ -101,6 +101,7 @@ typedef struct cc_body_landmarks {
     double neck_y, shoulder_y, chest_y, waist_y, hip_y;          /* [m] */
     double neck_girth, chest_girth, waist_girth, hip_girth;      /* [m] */
     double shoulder_width;                                       /* [m] */
+    double stride; /* [rad] thigh swing from the vertical in the widest stride; 0 = measured */
 } cc_body_landmarks;
 
 typedef struct cc_mannequin_desc {
