@@ -44,26 +44,44 @@ struct CutResult {
     int restarts = 0;
 };
 
+/// One garment of `kind` on the walking mannequin (fixed costs), at `forceLevel` (-1: the level
+/// the scheduler gives it).
+struct WalkScene {
+    WorldPtr world;
+    CharacterId character;
+    GarmentId garment;
+};
+
+WalkScene walkScene(GarmentKind kind, int forceLevel, bool spendSlack) {
+    WorldDesc desc;
+    desc.fixedCostModel = true;
+    desc.spendSlack = spendSlack;
+    WalkScene scene{WorldPtr(World::create(desc).value()), {}, {}};
+    ClothAssetDesc asset;
+    asset.kind = kind;
+    const AssetId assetId = scene.world->addClothAsset(asset).value();
+    CharacterDesc cd;
+    cd.body = scene.world->addMannequinBody({}).value();
+    cd.clip = "walk";
+    scene.character = scene.world->addCharacter(cd).value();
+    GarmentDesc gd;
+    gd.forceLevel = forceLevel;
+    scene.garment = scene.world->addGarment(assetId, scene.character, gd).value();
+    return scene;
+}
+
 /// A garment on the walking mannequin seen from 40 m for 3 s, then close up for 1 s. `finest`:
 /// forced to its finest level throughout (only the collision changes at the cut), else the level
 /// the tolerance needs (level 0 far away, with no slack spent).
 CutResult runCut(GarmentKind kind, bool finest) {
-    constexpr int kCut = 180, kAfter = 60;  // [frames]
+    constexpr int kCut = 180, kAfter = 60; // [frames]
     CutResult r;
-    WorldDesc desc;
-    desc.fixedCostModel = true;
-    desc.spendSlack = false;  // far away, the level the tolerance needs: a crowd has no slack
-    WorldPtr world(World::create(desc).value());
-    ClothAssetDesc asset;
-    asset.kind = kind;
-    const AssetId assetId = world->addClothAsset(asset).value();
-    CharacterDesc cd;
-    cd.body = world->addMannequinBody({}).value();
-    cd.clip = "walk";
-    const CharacterId character = world->addCharacter(cd).value();
-    GarmentDesc gd;
-    if (finest) gd.forceLevel = int(asset.levelCount) - 1;
-    const GarmentId garment = world->addGarment(assetId, character, gd).value();
+    // Far away, the level the tolerance needs (no slack spent: a crowd has none).
+    WalkScene scene = walkScene(kind, finest ? int(ClothAssetDesc{}.levelCount) - 1 : -1, false);
+    World* world = scene.world.get();
+    const CharacterId character = scene.character;
+    const GarmentId garment = scene.garment;
+    const ClothAssetDesc asset{};
     const double dt = 1.0 / 60.0, speed = 1.35;
     for (int f = 1; f <= kCut + kAfter; ++f) {
         const double z = speed * f * dt, position[3] = {0.0, 0.0, z};
@@ -138,19 +156,11 @@ struct RefineResult {
 };
 
 RefineResult runRefine(GarmentKind kind, int refine) {
-    WorldDesc desc;
-    desc.fixedCostModel = true;
-    WorldPtr world(World::create(desc).value());
-    ClothAssetDesc asset;
-    asset.kind = kind;
-    const AssetId assetId = world->addClothAsset(asset).value();
-    CharacterDesc cd;
-    cd.body = world->addMannequinBody({}).value();
-    cd.clip = "walk";
-    const CharacterId character = world->addCharacter(cd).value();
-    GarmentDesc gd;
-    gd.forceLevel = int(asset.levelCount) - 2;
-    const GarmentId garment = world->addGarment(assetId, character, gd).value();
+    WalkScene scene = walkScene(kind, int(ClothAssetDesc{}.levelCount) - 2, true);
+    World* world = scene.world.get();
+    const CharacterId character = scene.character;
+    const GarmentId garment = scene.garment;
+    const ClothAssetDesc asset{};
     const double dt = 1.0 / 60.0, speed = 1.35;
     RefineResult r;
     for (int f = 1; f <= refine + 60; ++f) {
