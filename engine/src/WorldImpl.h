@@ -166,7 +166,7 @@ private:
         int level;
         double substep;  ///< [s]
         int substeps, iterations;
-        double compression;  ///< [-] the garment's (lower while its placement is released)
+        double compression; ///< [-] compression stiffness (lower while a placement is released)
         std::size_t item;
     };
     std::vector<BatchKey> mBatchKeys;
