@@ -491,7 +491,11 @@ Status BodyCollider::traceRays(Span<const Vec3> origins, Span<const Vec3> direct
         // Inside as many parts as the ray leaves more often than it enters; it is out of the body
         // at the crossing where that count first drops to zero.
         RayTrace trace;
-        for (int k = 0; k < kept; ++k) trace.partsInside += collector.crossings[std::size_t(k)].second;
+        for (int k = 0; k < kept; ++k) {
+            const auto& c = collector.crossings[std::size_t(k)];
+            trace.partsInside += c.second;
+            if (c.second < 0 && trace.firstEntry < 0.0) trace.firstEntry = double(c.first);
+        }
         int inside = trace.partsInside;
         for (int k = 0; k < kept && inside > 0; ++k) {
             inside -= collector.crossings[std::size_t(k)].second;

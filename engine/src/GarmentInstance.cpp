@@ -13,6 +13,7 @@ namespace {
 
 constexpr int kCorrectionLimitPasses = 32;    ///< sweeps of the strain limit after the body's pushes
 constexpr double kSurfaceFraction = 0.05;     ///< of the thickness: where the last push puts a vertex
+constexpr int kUntangleRounds = 2; ///< edges taken round the body, each with the limit after
 
 /// Targets of bound points on a host-skinned body: the barycentric point of the host's vertices
 /// plus the bind offset (no skeleton, so no rotation to carry it with).
@@ -379,29 +380,43 @@ Status GarmentInstance::finish(CharacterInstance& character, const cloth::Subste
             !s)
             return s;
         inOutReport.bodyCorrections = corrected;
-        if (corrected > 0) {
-            // A push out of one part of the body can end inside another (out of the pelvis, into
-            // the thigh it overlaps): one more proximity pass, which knows which part a point is in.
-            settings.continuous = false;
-            settings.query.pointMargins = {};
-            settings.query.margin = mAsset->desc.thickness;
-            if (Status s = stage.gather(colliders, mPositions, mPositions, settings, mContacts); !s) return s;
-            if (Status s = cloth::resolveContacts(mContacts, response, *level.cloth, mPositions, mVelocities, nullptr,
-                                                  mMoved);
-                !s)
+        // A push out of one part of the body can end inside another (out of the pelvis, into the
+        // thigh it overlaps): one more proximity pass, which knows which part a point is in.
+        settings.continuous = false;
+        settings.query.pointMargins = {};
+        settings.query.margin = mAsset->desc.thickness;
+        auto proximityPass = [&]() -> Status {
+            if (Status s = stage.gather(colliders, mPositions, mPositions, settings, mContacts); !s)
                 return s;
-        }
-        if (corrected > 0 && strainSettings.strainLimit > 0.0) {
-            // The strain limit again, with the pushed vertices held where the body put them: their
-            // neighbours follow instead of a lone vertex standing out of the cloth.
+            return cloth::resolveContacts(mContacts, response, *level.cloth, mPositions,
+                                          mVelocities, nullptr, mMoved);
+        };
+        // The strain limit again, with the pushed vertices held where the body put them: their
+        // neighbours follow instead of a lone vertex standing out of the cloth. The body has the
+        // last word, but only against entering it: a vertex the limit pulled inside goes back to
+        // the surface, not to the full thickness, so the cloth stretches as little as the body
+        // forces (a limb driving the hem through a stride).
+        auto limitThenSurface = [&]() -> Status {
             if (Status s = limitAroundMoved(strainSettings); !s) return s;
-            // The body has the last word, but only against entering it: a vertex the limit pulled
-            // inside goes back to the surface, not to the full thickness, so the cloth stretches
-            // as little as the body forces (a limb driving the hem through a stride).
             cloth::ContactResponse surface = response;
             surface.thickness = kSurfaceFraction * response.thickness;
-            if (Status s = cloth::resolveContacts(mContacts, surface, *level.cloth, mPositions, mVelocities); !s)
-                return s;
+            return cloth::resolveContacts(mContacts, surface, *level.cloth, mPositions,
+                                          mVelocities);
+        };
+        if (corrected > 0) {
+            if (Status s = proximityPass(); !s) return s;
+            if (strainSettings.strainLimit > 0.0) {
+                if (Status s = limitThenSurface(); !s) return s;
+            }
+        }
+        // Edges left stretched across a limb go round it (their moved ends may go into another
+        // part: an arm's edge round into the torso), then the pushes and the limit once more.
+        for (int round = 0; round < kUntangleRounds && strainSettings.strainLimit > 0.0; ++round) {
+            uint32_t untangled = 0;
+            if (Status s = untangleEdges(strainSettings, scratch, untangled); !s) return s;
+            if (untangled == 0) break;
+            if (Status s = proximityPass(); !s) return s;
+            if (Status s = limitThenSurface(); !s) return s;
         }
     }
     // Self-collision's fail-safe last, over the whole update's motion (the solve and the body's

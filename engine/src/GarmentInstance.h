@@ -56,6 +56,8 @@ struct UpdateScratch {
     std::vector<collision::RayTrace> sideTraces;  ///< the rays of the vertices inside, along their sides
     std::vector<uint32_t> vertices;        ///< the vertices a settle round moves out of the body,
     std::vector<Vec3> origins;             ///< and where they are
+    std::vector<Vec3> escapeOrigins;    ///< untangleEdges: rays across the edges through the body,
+    std::vector<Vec3> escapeDirections; ///< from the middle of each crossing
 };
 
 /// What the last update did besides the solve.
@@ -170,6 +172,11 @@ private:
     double meanEdgeShortening() const;
     /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses).
     Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
+    /// Edges over the strain limit that pass through the body with both ends outside (a limb
+    /// between two vertices) move round it: their free ends go along the nearest way out of the
+    /// body from the middle of the crossing, flagged in mMoved. EdgeUntangle.cpp.
+    Status untangleEdges(const cloth::SubstepSettings& strainSettings, UpdateScratch& scratch,
+                         uint32_t& outMoved);
     /// One level finer (+1) or coarser (-1) through the cooked transfers, positions and velocities.
     void transferOneLevel(int direction);
     /// Before an update against the body mesh when the last update was not (capsules, asleep) or

@@ -1,5 +1,5 @@
-// BodyCollider::traceRays: how many closed parts a point is inside, and where a ray from it leaves
-// the body, against spheres' closed forms; open surfaces have no inside; bad input.
+// BodyCollider::traceRays: how many closed parts a point is inside, and where a ray from it enters
+// and leaves the body, against spheres' closed forms; open surfaces have no inside; bad input.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,7 +38,7 @@ RayTrace trace(const BodyCollider& body, const Vec3& origin, const Vec3& directi
 
 constexpr double kPolygonTolerance = 2e-3;  // [m] the spheres' polygons against their closed forms
 
-TEST(RayTrace, CountsThePartsAPointIsInAndWhereTheRayLeavesTheBody) {
+TEST(RayTrace, CountsThePartsAPointIsInAndWhereTheRayEntersAndLeavesTheBody) {
     auto device = CollisionDevice::create({}).value();
     const auto body = colliderOf(*device, twoSpheres());
     // In A only; the ray enters B at x = 0.3 and leaves A at x = 1 inside B, so the body ends
@@ -55,12 +55,22 @@ TEST(RayTrace, CountsThePartsAPointIsInAndWhereTheRayLeavesTheBody) {
     t = trace(*body, Vec3(0.9, 0.0, 0.0), Vec3::UnitY());
     EXPECT_EQ(t.partsInside, 2);
     EXPECT_NEAR(t.firstExit, std::sqrt(0.24), kPolygonTolerance);
-    // Outside, whether the ray passes through the body or away from it.
+    // Outside, whether the ray passes through the body or away from it: no exit. Where it first
+    // enters the body: towards it, B at x = 1.3; away from it, nowhere.
     for (const Vec3& d : {Vec3(-1.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3(-1.0, 0.1, 0.05)}) {
         t = trace(*body, Vec3(2.0, 0.0, 0.0), d);
         EXPECT_EQ(t.partsInside, 0);
         EXPECT_EQ(t.firstExit, -1.0);
     }
+    EXPECT_NEAR(trace(*body, Vec3(2.0, 0.0, 0.0), -Vec3::UnitX()).firstEntry, 0.7,
+                kPolygonTolerance);
+    EXPECT_EQ(trace(*body, Vec3(2.0, 0.0, 0.0), Vec3::UnitX()).firstEntry, -1.0);
+    // A line 0.3 from B's centre enters it at the chord's near end, x = 0.8 + sqrt(0.25 - 0.09)
+    // = 1.2.
+    EXPECT_NEAR(trace(*body, Vec3(2.0, 0.0, 0.3), -Vec3::UnitX()).firstEntry, 0.8,
+                kPolygonTolerance);
+    // From inside A it enters B, which it is not in, at x = 0.3.
+    EXPECT_NEAR(trace(*body, Vec3::Zero(), Vec3::UnitX()).firstEntry, 0.3, kPolygonTolerance);
     // Through a pole vertex and along ring edges, where a ray meets several triangles at one
     // point: each crossing counts once.
     t = trace(*body, Vec3(0.0, -0.2, 0.0), Vec3::UnitY());

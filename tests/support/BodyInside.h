@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "crowdcloth/World.h"
 #include "crowdcloth/core/Math.h"
@@ -51,6 +53,41 @@ inline double distanceToSurface(const RenderMeshView& body, const Vec3& p) {
         best = std::min(best, (p - q).norm());
     }
     return best;
+}
+
+/// Whether the segment pq crosses a triangle of the body (Moller & Trumbore 1997, brute force).
+inline bool segmentCrossesBody(const RenderMeshView& body, const Vec3& p, const Vec3& q) {
+    const Vec3 d = q - p;
+    for (uint32_t t = 0; t < body.triangleCount; ++t) {
+        const Vec3 a = vertexOf(body.positions, body.indices[3 * t]);
+        const Vec3 e1 = vertexOf(body.positions, body.indices[3 * t + 1]) - a;
+        const Vec3 e2 = vertexOf(body.positions, body.indices[3 * t + 2]) - a;
+        const Vec3 h = d.cross(e2);
+        const double det = e1.dot(h);
+        if (std::abs(det) < 1e-14) continue;
+        const Vec3 s = p - a, r = s.cross(e1);
+        const double u = s.dot(h) / det, v = d.dot(r) / det, along = e2.dot(r) / det;
+        if (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && along > 0.0 && along < 1.0) return true;
+    }
+    return false;
+}
+
+/// The garment's render edges (each once) that cross the body's surface: cloth the body passes
+/// through between two vertices.
+inline int edgesThroughBody(const RenderMeshView& cloth, const RenderMeshView& body) {
+    std::vector<std::pair<uint32_t, uint32_t>> edges;
+    for (uint32_t t = 0; t < cloth.triangleCount; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = cloth.indices[3 * t + k], b = cloth.indices[3 * t + (k + 1) % 3];
+            edges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    int crossing = 0;
+    for (const auto& [a, b] : edges)
+        crossing +=
+            segmentCrossesBody(body, vertexOf(cloth.positions, a), vertexOf(cloth.positions, b));
+    return crossing;
 }
 
 } // namespace cc::test

@@ -13,6 +13,8 @@ namespace cc::collision {
 struct RayTrace {
     double firstExit = -1.0;  ///< [m] to the first crossing where it leaves a part; -1 = none
     int32_t partsInside = 0;  ///< closed parts its origin is inside: exits less entries along it
+    double firstEntry = -1.0; ///< [m] to the first crossing where it enters a part; -1 = none
+                              ///< (from outside: whether a segment along it meets the body)
 };
 
 /// Something cloth collides with that moves from a previous pose to the current one over each
