@@ -21,9 +21,8 @@
 namespace cc::detail {
 namespace {
 
-constexpr int kEscapeRays =
-    8; ///< directions across an edge in which its middle looks for the way out
-constexpr double kStrainSlack = 0.01; ///< over the limit by more than this, an edge is looked at
+/// Directions across an edge in which the middle of its crossing looks for the way out.
+constexpr int kEscapeRays = 8;
 
 /// Two unit vectors spanning the plane across the unit vector u.
 void across(const Vec3& u, Vec3& e1, Vec3& e2) {

@@ -161,6 +161,9 @@ public:
 private:
     GarmentInstance() = default;
     static constexpr double kMaxContactReach = 0.25;  ///< [m] the farthest a contact query looks for the body
+    /// Over the strain limit by more than this, an edge is stretched: the after-solve passes look
+    /// at it.
+    static constexpr double kStrainSlack = 0.01;
     // A compressed placement's release (mReleaseLeft): how long [s], the air's damping added at its
     // start [1/s], the mean shortening [-] that asks for it.
     static constexpr double kReleaseSeconds = 1.0;
