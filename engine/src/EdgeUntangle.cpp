@@ -41,7 +41,7 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
     const auto& edges = level.limitedEdges();
     // 1. The stretched edges, traced both ways: an edge whose ends are outside and whose ray from
     //    either end enters the body before reaching the other end crosses the body.
-    scratch.vertices.clear();
+    scratch.stretchedEdges.clear();
     scratch.origins.clear();
     scratch.directions.clear();
     const double over = 1.0 + strainSettings.strainLimit + kStrainSlack;
@@ -51,13 +51,13 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
         const double length = (b - a).norm();
         if (!(length > over * edges[k].restLength)) continue;
         const Vec3 u = (b - a) / length;
-        scratch.vertices.push_back(k);
+        scratch.stretchedEdges.push_back(k);
         scratch.origins.push_back(a);
         scratch.directions.push_back(u);
         scratch.origins.push_back(b);
         scratch.directions.push_back(-u);
     }
-    if (scratch.vertices.empty()) return Status::ok();
+    if (scratch.stretchedEdges.empty()) return Status::ok();
     scratch.traces.resize(scratch.origins.size());
     if (Status s = context.collider->traceRays(scratch.origins, scratch.directions, scratch.traces);
         !s)
@@ -67,7 +67,7 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
     std::size_t crossing = 0;
     scratch.escapeOrigins.clear();
     scratch.escapeDirections.clear();
-    for (std::size_t i = 0; i < scratch.vertices.size(); ++i) {
+    for (std::size_t i = 0; i < scratch.stretchedEdges.size(); ++i) {
         const collision::RayTrace& fromA = scratch.traces[2 * i];
         const collision::RayTrace& fromB = scratch.traces[2 * i + 1];
         const Vec3& a = scratch.origins[2 * i];
@@ -81,7 +81,7 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
         const Vec3 middle = a + 0.5 * (enter + leave) * u;
         Vec3 e1, e2;
         across(u, e1, e2);
-        scratch.vertices[crossing++] = scratch.vertices[i]; // crossing <= i
+        scratch.stretchedEdges[crossing++] = scratch.stretchedEdges[i]; // crossing <= i
         for (int r = 0; r < kEscapeRays; ++r) {
             const double angle = 2.0 * kPi * r / kEscapeRays;
             scratch.escapeOrigins.push_back(middle);
@@ -89,7 +89,7 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
         }
     }
     if (crossing == 0) return Status::ok();
-    scratch.vertices.resize(crossing);
+    scratch.stretchedEdges.resize(crossing);
     scratch.traces.resize(scratch.escapeOrigins.size());
     if (Status s = context.collider->traceRays(scratch.escapeOrigins, scratch.escapeDirections,
                                                scratch.traces);
@@ -100,8 +100,8 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
     //    thickness (twice as far for one end when the other is held by its attachment: the edge
     //    turns about it); a node that several edges move goes by their mean.
     const uint32_t free = level.freeNodeCount();
-    scratch.sides.assign(level.nodeCount(), Vec3::Zero());
-    scratch.sideDepths.assign(level.nodeCount(), 0.0);
+    scratch.nodeMoves.assign(level.nodeCount(), Vec3::Zero());
+    scratch.nodeMoveCounts.assign(level.nodeCount(), 0.0);
     for (std::size_t i = 0; i < crossing; ++i) {
         double nearest = -1.0;
         Vec3 way = Vec3::Zero();
@@ -114,23 +114,23 @@ Status GarmentInstance::untangleEdges(const cloth::SubstepSettings& strainSettin
             }
         }
         if (nearest < 0.0) continue;
-        const cloth::LimitedEdge& e = edges[scratch.vertices[i]];
+        const cloth::LimitedEdge& e = edges[scratch.stretchedEdges[i]];
         const bool aFree = e.a < free, bFree = e.b < free;
         const Vec3 move = (nearest + mAsset->desc.thickness) * way;
         if (aFree) {
-            scratch.sides[e.a] += bFree ? move : 2.0 * move;
-            scratch.sideDepths[e.a] += 1.0;
+            scratch.nodeMoves[e.a] += bFree ? move : 2.0 * move;
+            scratch.nodeMoveCounts[e.a] += 1.0;
         }
         if (bFree) {
-            scratch.sides[e.b] += aFree ? move : 2.0 * move;
-            scratch.sideDepths[e.b] += 1.0;
+            scratch.nodeMoves[e.b] += aFree ? move : 2.0 * move;
+            scratch.nodeMoveCounts[e.b] += 1.0;
         }
     }
     const auto& nodeOfVertex = level.nodeOfVertex();
     for (std::size_t v = 0; v < mPositions.size() && v < nodeOfVertex.size(); ++v) {
         const uint32_t n = nodeOfVertex[v];
-        if (scratch.sideDepths[n] == 0.0) continue;
-        mPositions[v] += scratch.sides[n] / scratch.sideDepths[n];
+        if (scratch.nodeMoveCounts[n] == 0.0) continue;
+        mPositions[v] += scratch.nodeMoves[n] / scratch.nodeMoveCounts[n];
         mMoved[v] = 1;
         ++outMoved;
     }

@@ -56,8 +56,12 @@ struct UpdateScratch {
     std::vector<collision::RayTrace> sideTraces;  ///< the rays of the vertices inside, along their sides
     std::vector<uint32_t> vertices;        ///< the vertices a settle round moves out of the body,
     std::vector<Vec3> origins;             ///< and where they are
-    std::vector<Vec3> escapeOrigins;    ///< untangleEdges: rays across the edges through the body,
+    std::vector<uint32_t>
+        stretchedEdges; ///< untangleEdges: edges over the limit, then those through the body
+    std::vector<Vec3> escapeOrigins;    ///< rays across the edges through the body,
     std::vector<Vec3> escapeDirections; ///< from the middle of each crossing
+    std::vector<Vec3> nodeMoves;        ///< per node: the untangle's moves, summed
+    std::vector<double> nodeMoveCounts; ///< per node: how many edges moved it
 };
 
 /// What the last update did besides the solve.
