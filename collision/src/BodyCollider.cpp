@@ -444,6 +444,7 @@ struct CrossingCollector {
     RTCIntersectContext context;  // first: Embree hands the filter this pointer
     const BodyCollider::Impl* body = nullptr;
     Vec3 direction = Vec3::Zero();
+    RayParts parts = RayParts::Closed;
     static constexpr int kMax = 256;  // a ray through a body crosses a few dozen surfaces at most
     std::array<std::pair<float, int8_t>, kMax> crossings{};  // distance, +1 leaving / -1 entering
     int count = 0;
@@ -453,7 +454,8 @@ void collectCrossing(const RTCFilterFunctionNArguments* args);
 
 } // namespace
 
-Status BodyCollider::traceRays(Span<const Vec3> origins, Span<const Vec3> directions, Span<RayTrace> outTraces) const {
+Status BodyCollider::traceRays(Span<const Vec3> origins, Span<const Vec3> directions,
+                               RayParts parts, Span<RayTrace> outTraces) const {
     if (origins.size() != directions.size() || outTraces.size() != origins.size())
         return Status::invalidArgument("BodyCollider::traceRays: one direction and one trace per origin");
     if (Status s = detail::checkPoints(origins, "BodyCollider::traceRays"); !s) return s;
@@ -462,6 +464,7 @@ Status BodyCollider::traceRays(Span<const Vec3> origins, Span<const Vec3> direct
             return Status::invalidArgument("BodyCollider::traceRays: direction " + std::to_string(i) + " is not a unit vector");
     CrossingCollector collector;
     collector.body = mImpl.get();
+    collector.parts = parts;
     for (std::size_t i = 0; i < origins.size(); ++i) {
         const Vec3& o = origins[i];
         const Vec3& d = directions[i];
@@ -515,7 +518,9 @@ void collectCrossing(const RTCFilterFunctionNArguments* args) {
         if (!args->valid[k]) continue;
         args->valid[k] = 0;  // rejected: the traversal goes on to the next hit
         const uint32_t t = RTCHitN_primID(args->hit, args->N, k);
-        if (!body.shape->partClosed[body.shape->part[t]] || body.degenerate[t]) continue;
+        if (body.degenerate[t]) continue;
+        if (collector->parts == RayParts::Closed && !body.shape->partClosed[body.shape->part[t]])
+            continue;
         // The body's own outward normals (Embree's Ng follows its winding convention, not ours).
         const double facing = body.faceNormal[t].dot(collector->direction);
         if (facing == 0.0 || collector->count == CrossingCollector::kMax) continue;

@@ -141,7 +141,10 @@ Status GarmentInstance::settleLevel(UpdateScratch& scratch, uint32_t& outStillIn
     for (int round = 0;; ++round) {
         scratch.directions.assign(n, kProbe);
         scratch.traces.resize(n);
-        if (Status s = context.collider->traceRays(mPositions, scratch.directions, scratch.traces); !s) return s;
+        if (Status s = context.collider->traceRays(mPositions, scratch.directions,
+                                                   collision::RayParts::Closed, scratch.traces);
+            !s)
+            return s;
         outStillInside = 0;
         for (std::size_t v = 0; v < n; ++v) {
             if (cloth.nodeOfVertex()[v] >= cloth.freeNodeCount()) scratch.traces[v].partsInside = 0;  // driven
@@ -161,7 +164,7 @@ Status GarmentInstance::settleLevel(UpdateScratch& scratch, uint32_t& outStillIn
         for (uint32_t v : scratch.vertices) scratch.directions.push_back(scratch.sides[v]);
         scratch.sideTraces.resize(scratch.vertices.size());
         if (Status s = context.collider->traceRays(scratch.origins, scratch.directions,
-                                                   scratch.sideTraces);
+                                                   collision::RayParts::Closed, scratch.sideTraces);
             !s)
             return s;
         mMoved.assign(n, 0);

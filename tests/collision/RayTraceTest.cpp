@@ -1,5 +1,6 @@
 // BodyCollider::traceRays: how many closed parts a point is inside, and where a ray from it enters
-// and leaves the body, against spheres' closed forms; open surfaces have no inside; bad input.
+// and leaves the body, against spheres' closed forms; open surfaces have no inside unless the
+// caller counts them (RayParts::All); bad input.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,10 +30,13 @@ std::unique_ptr<BodyCollider> colliderOf(CollisionDevice& device, const test::Bo
     return BodyCollider::create(device, m.triangles, m.positions).value();
 }
 
-RayTrace trace(const BodyCollider& body, const Vec3& origin, const Vec3& direction) {
+RayTrace trace(const BodyCollider& body, const Vec3& origin, const Vec3& direction,
+               RayParts parts = RayParts::Closed) {
     RayTrace out;
     const Vec3 d = direction.normalized();
-    EXPECT_TRUE(body.traceRays(Span<const Vec3>(&origin, 1), Span<const Vec3>(&d, 1), Span<RayTrace>(&out, 1)).isOk());
+    EXPECT_TRUE(body.traceRays(Span<const Vec3>(&origin, 1), Span<const Vec3>(&d, 1), parts,
+                               Span<RayTrace>(&out, 1))
+                    .isOk());
     return out;
 }
 
@@ -101,6 +105,25 @@ TEST(RayTrace, AnOpenSurfaceHasNoInside) {
     EXPECT_NEAR(t.firstExit, 0.3, 0.3 * (1.0 - std::cos(M_PI / 16.0)) + 1e-6);
 }
 
+TEST(RayTrace, WithOpenPartsCountedARayMeetsThemByTheirWinding) {
+    // An imported character's open pieces (a plate, a tube without caps) still stand in a cloth
+    // edge's way: RayParts::All counts their faces, outside by winding, where Closed passes them.
+    test::BodyMesh open = test::uvSphere(Vec3::Zero(), 1.0, 16, 32);
+    open.triangles.pop_back(); // at a pole: rays along the equator meet only whole faces
+    auto device = CollisionDevice::create({}).value();
+    const auto body = colliderOf(*device, open);
+    const Vec3 outside(-2.0, 0.0, 0.0);
+    EXPECT_EQ(trace(*body, outside, Vec3::UnitX(), RayParts::Closed).firstEntry, -1.0);
+    const double chord = 1.0 - std::cos(M_PI / 32.0); // the 32-gon's face inside the circle
+    const RayTrace through = trace(*body, outside, Vec3::UnitX(), RayParts::All);
+    EXPECT_NEAR(through.firstEntry, 1.0, chord + 1e-6);
+    EXPECT_EQ(through.partsInside, 0); // in and out again
+    const RayTrace fromInside = trace(*body, Vec3::Zero(), Vec3::UnitX(), RayParts::All);
+    EXPECT_EQ(fromInside.partsInside, 1);
+    EXPECT_NEAR(fromInside.firstExit, 1.0, chord + 1e-6);
+    EXPECT_EQ(fromInside.firstEntry, -1.0);
+}
+
 TEST(RayTrace, AFlippedTriangleOpensTheSurface) {
     // Wound against its neighbours, one triangle makes the outward side ambiguous: no inside.
     test::BodyMesh m = test::uvSphere(Vec3::Zero(), 1.0, 8, 16);
@@ -115,10 +138,15 @@ TEST(RayTrace, BadInputGivesClearErrors) {
     const Vec3 origin = Vec3::Zero(), unit = Vec3::UnitX(), longer(2.0, 0.0, 0.0);
     const Vec3 nan(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0);
     RayTrace out[2];
-    const Status notUnit = body->traceRays(Span<const Vec3>(&origin, 1), Span<const Vec3>(&longer, 1), Span<RayTrace>(out, 1));
+    const Status notUnit =
+        body->traceRays(Span<const Vec3>(&origin, 1), Span<const Vec3>(&longer, 1),
+                        RayParts::Closed, Span<RayTrace>(out, 1));
     EXPECT_NE(notUnit.message().find("direction 0 is not a unit vector"), std::string::npos) << notUnit.message();
-    EXPECT_FALSE(body->traceRays(Span<const Vec3>(&nan, 1), Span<const Vec3>(&unit, 1), Span<RayTrace>(out, 1)).isOk());
-    const Status count = body->traceRays(Span<const Vec3>(&origin, 1), Span<const Vec3>(&unit, 1), Span<RayTrace>(out, 2));
+    EXPECT_FALSE(body->traceRays(Span<const Vec3>(&nan, 1), Span<const Vec3>(&unit, 1),
+                                 RayParts::Closed, Span<RayTrace>(out, 1))
+                     .isOk());
+    const Status count = body->traceRays(Span<const Vec3>(&origin, 1), Span<const Vec3>(&unit, 1),
+                                         RayParts::Closed, Span<RayTrace>(out, 2));
     EXPECT_NE(count.message().find("one direction and one trace per origin"), std::string::npos) << count.message();
 }
 

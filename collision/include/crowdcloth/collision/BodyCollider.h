@@ -97,8 +97,9 @@ public:
     Status queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
                            std::vector<Contact>& outContacts) const override;
 
-    /// Collider::traceRays on the current pose (Embree rays; open parts' triangles are passed).
-    Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions, Span<RayTrace> outTraces) const override;
+    /// Collider::traceRays on the current pose (Embree rays collecting every crossing).
+    Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions, RayParts parts,
+                     Span<RayTrace> outTraces) const override;
 
     uint32_t vertexCount() const;
     uint32_t triangleCount() const;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "crowdcloth/collision/ContactQuery.h"
@@ -9,7 +10,17 @@
 
 namespace cc::collision {
 
-/// What a ray from a point meets on its way out of a body's closed parts (Collider::traceRays).
+/// Which of a body's parts a ray counts (Collider::traceRays). A part is closed when every edge of
+/// it joins two of its triangles, once each way round; imported characters are often built of open
+/// pieces too (RobotExpressive: 39 of its 63 parts, plates and tubes without caps).
+enum class RayParts : uint8_t {
+    Closed, ///< closed parts only: partsInside is exact (an open part's hole lets a ray out
+            ///< uncounted)
+    All,    ///< open parts as well, each face's outside by its winding: a segment through a plate
+            ///< or an open shell meets it (partsInside can then read a point outside as inside)
+};
+
+/// What a ray from a point meets on its way out of a body's parts (Collider::traceRays).
 struct RayTrace {
     double firstExit = -1.0;  ///< [m] to the first crossing where it leaves a part; -1 = none
     int32_t partsInside = 0;  ///< closed parts its origin is inside: exits less entries along it
@@ -37,10 +48,12 @@ public:
     virtual Status queryContinuous(Span<const Vec3> start, Span<const Vec3> end, const ContactQuery& query,
                                    std::vector<Contact>& outContacts) const = 0;
     /// Each ray from origins[i] along the unit direction directions[i], to infinity, through the
-    /// closed parts of the current surface (RayTrace). Takes a point found inside out along a
-    /// direction the caller knows, where the nearest surface may be a limb's far side. This default
-    /// sees no surface: nothing inside, no exit.
-    virtual Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions, Span<RayTrace> outTraces) const {
+    /// current surface's parts that `parts` names (RayTrace). Takes a point found inside out along
+    /// a direction the caller knows, where the nearest surface may be a limb's far side. This
+    /// default sees no surface: nothing inside, no exit.
+    virtual Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions, RayParts parts,
+                             Span<RayTrace> outTraces) const {
+        (void)parts;
         if (directions.size() != origins.size() || outTraces.size() != origins.size())
             return Status::invalidArgument("Collider::traceRays: one direction and one trace per origin");
         for (RayTrace& t : outTraces) t = RayTrace{};
