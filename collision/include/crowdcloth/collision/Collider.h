@@ -23,7 +23,7 @@ enum class RayParts : uint8_t {
 /// What a ray from a point meets on its way out of a body's parts (Collider::traceRays).
 struct RayTrace {
     double firstExit = -1.0;  ///< [m] to the first crossing where it leaves a part; -1 = none
-    int32_t partsInside = 0;  ///< closed parts its origin is inside: exits less entries along it
+    int32_t partsInside = 0;  ///< counted parts its origin is inside: exits less entries along it
     double firstEntry = -1.0; ///< [m] to the first crossing where it enters a part; -1 = none
                               ///< (from outside: whether a segment along it meets the body)
 };
