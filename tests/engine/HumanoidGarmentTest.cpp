@@ -30,7 +30,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -39,16 +38,14 @@
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
-#include "support/WorldPtr.h"
-#include "crowdcloth/import/CharacterIO.h"
+#include "crowdcloth/core/Statistics.h"
 #include "support/BodyInside.h"
 #include "support/CrowdScenes.h"
-#include "crowdcloth/core/Statistics.h"
+#include "support/HumanoidBodies.h"
+#include "support/WorldPtr.h"
 
 namespace cc {
 namespace {
-
-namespace fs = std::filesystem;
 
 using test::WorldPtr;
 
@@ -90,20 +87,15 @@ void run(const Case& c, Outcome& out) {
     WorldDesc desc;
     desc.fixedCostModel = true;
     WorldPtr world(World::create(desc).value());
-    BodyId body;
-    double speed = 0.0;  // [m/s] root motion (the mannequin's clips are in place with a velocity)
-    if (std::string(c.body) == "mannequin") {
-        body = world->addMannequinBody({}).value();
+    bool absent = false;
+    const Result<BodyId> added = test::addNamedBody(*world, c.body, CC_HUMANOIDS_DIR, absent);
+    if (absent) GTEST_SKIP() << added.status().message();
+    ASSERT_TRUE(added.isOk()) << added.status().message();
+    const BodyId body = added.value();
+    // [m/s] root motion (the mannequin's clips are in place with a velocity)
+    double speed = 0.0;
+    if (std::string(c.body) == "mannequin")
         speed = std::string(c.clip) == "run" ? 4.6 : std::string(c.clip) == "walk" ? 1.35 : 0.0;
-    } else {
-        const fs::path file = fs::path(CC_HUMANOIDS_DIR) / c.body;
-        if (!fs::exists(file)) GTEST_SKIP() << "shared humanoid absent: " << file;
-        auto character = importCharacter(file.string());
-        ASSERT_TRUE(character.isOk()) << character.status().message();
-        auto added = world->addCharacterBody(character.value());
-        ASSERT_TRUE(added.isOk()) << added.status().message();
-        body = added.value();
-    }
     ClothAssetDesc assetDesc;
     assetDesc.kind = c.kind;
     const AssetId asset = world->addClothAsset(assetDesc).value();
@@ -126,8 +118,7 @@ void run(const Case& c, Outcome& out) {
     for (int f = 1; f <= frames; ++f) {
         const double z = speed * f * dt, position[3] = {0.0, 0.0, z};
         ASSERT_TRUE(world->setCharacterRoot(character.value(), position, 0.0).isOk());
-        const Vec3 target(0.0, 0.6 * height, z);
-        const CameraDesc camera = test::cameraLookingAt(target + Vec3(-0.6 * height, 0.2 * height, -1.2 * height), target);
+        const CameraDesc camera = test::closeUpCamera(height, z);
         ASSERT_TRUE(world->setCameras(&camera, 1).isOk());
         ASSERT_TRUE(world->step(dt).isOk());
         const GarmentStats stats = world->garmentStats(garment.value()).value();

@@ -12,16 +12,15 @@
 // the limit with the untangle, 713 with the alternating rounds of the limit and the surface push,
 // 603 with their contacts gathered afresh, 447 with the body's open parts traced too.
 #include <cstdio>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "crowdcloth/World.h"
-#include "crowdcloth/import/CharacterIO.h"
 #include "support/BodyInside.h"
 #include "support/CrowdScenes.h"
+#include "support/HumanoidBodies.h"
 #include "support/WorldPtr.h"
 
 namespace cc {
@@ -46,17 +45,12 @@ bool runGarment(GarmentKind kind, const char* body, const char* clip, double spe
     asset.kind = kind;
     const AssetId cloth = world->addClothAsset(asset).value();
     CharacterDesc cd;
-    if (std::string(body) == "mannequin") {
-        cd.body = world->addMannequinBody({}).value();
-    } else {
-        const std::filesystem::path file = std::filesystem::path(CC_HUMANOIDS_DIR) / body;
-        if (!std::filesystem::exists(file)) return false;
-        auto imported = importCharacter(file.string());
-        EXPECT_TRUE(imported.isOk()) << imported.status().message();
-        if (!imported.isOk()) return false;
-        cd.body = world->addCharacterBody(imported.value()).value();
-        cd.clipIndex = -1;
-    }
+    bool absent = false;
+    const Result<BodyId> added = test::addNamedBody(*world, body, CC_HUMANOIDS_DIR, absent);
+    if (absent) return false;
+    EXPECT_TRUE(added.isOk()) << added.status().message();
+    if (!added.isOk()) return false;
+    cd.body = added.value();
     cd.clip = clip;
     const CharacterId character = world->addCharacter(cd).value();
     GarmentDesc gd;
@@ -70,9 +64,7 @@ bool runGarment(GarmentKind kind, const char* body, const char* clip, double spe
     for (int f = 1; f <= kFrames; ++f) {
         const double z = speed * f * dt, position[3] = {0.0, 0.0, z};
         EXPECT_TRUE(world->setCharacterRoot(character, position, 0.0).isOk());
-        const Vec3 target(0.0, 0.6 * height, z);
-        const CameraDesc camera = test::cameraLookingAt(
-            target + Vec3(-0.6 * height, 0.2 * height, -1.2 * height), target);
+        const CameraDesc camera = test::closeUpCamera(height, z);
         EXPECT_TRUE(world->setCameras(&camera, 1).isOk());
         EXPECT_TRUE(world->step(dt).isOk());
         const GarmentStats stats = world->garmentStats(garment).value();

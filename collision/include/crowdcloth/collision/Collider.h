@@ -51,9 +51,8 @@ public:
     /// current surface's parts that `parts` names (RayTrace). Takes a point found inside out along
     /// a direction the caller knows, where the nearest surface may be a limb's far side. This
     /// default sees no surface: nothing inside, no exit.
-    virtual Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions, RayParts parts,
-                             Span<RayTrace> outTraces) const {
-        (void)parts;
+    virtual Status traceRays(Span<const Vec3> origins, Span<const Vec3> directions,
+                             RayParts /*parts*/, Span<RayTrace> outTraces) const {
         if (directions.size() != origins.size() || outTraces.size() != origins.size())
             return Status::invalidArgument("Collider::traceRays: one direction and one trace per origin");
         for (RayTrace& t : outTraces) t = RayTrace{};
