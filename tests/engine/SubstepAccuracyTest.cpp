@@ -3,14 +3,15 @@
 // reference, 0.25 s windows restarted from its states, RestartedWindows.h), a cape on the walking
 // mannequin.
 //
-// Without stiffness damping it did not hold. A few CG iterations leave energy in the cloth's kHz
-// stretch vibrations; backward Euler at the default substep (1/240 s) damps them, at 1/1920 s it
-// hardly does, and they grow into the whole drape: 32 substeps x 4 iterations were 151 mm RMS off
-// against 39 at 4 x 4 (against the tradeoff study's reference, one level finer, at the finest
-// shipped level; running, 273 against 90), while 32 x 1 and 32 x 40 were not (33 and 35 mm):
-// partial solves, not substeps, feed them. The default ClothAssetDesc::damping (7e-4 s: 4x critical
-// at the finest level's highest stretch frequency, ~12,000 rad/s, 0.1 % at a 4 rad/s swing) takes
-// that out: 29 against 27 mm walking, 40 against 48 running.
+// Without stiffness damping it did not hold. A few CG iterations leave energy in the cloth's
+// stretch vibrations (estimated from the springs' k and the nodes' mass: ~1,000-12,000 rad/s at
+// the finest level); backward Euler at the default substep (1/240 s, w h = 4-50) damps them, at
+// 1/1920 s (w h = 0.5-6) much less, and they grow into the whole drape: 32 substeps x 4
+// iterations were 151 mm RMS off against 39 at 4 x 4 (against the tradeoff study's reference, one
+// level finer, at the finest shipped level; running, 273 against 90), while 32 x 1 and 32 x 40
+// were not (33 and 35 mm): partial solves, not substeps, feed them. The default
+// ClothAssetDesc::damping (7e-4 s: 0.35-4x critical over those frequencies, 0.1 % at a 4 rad/s
+// swing) takes that out: 29 against 27 mm walking, 40 against 48 running.
 #include <cstdio>
 #include <vector>
 
