@@ -317,10 +317,16 @@ Status GarmentInstance::prepareSelfCollision() {
     return Status::ok();
 }
 
-Status GarmentInstance::limitAroundMoved(const cloth::SubstepSettings& strainSettings) {
+Status GarmentInstance::limitAroundMoved(const cloth::SubstepSettings& strainSettings,
+                                         bool* outLimited) {
     cloth::SubstepSettings limit = strainSettings;
     limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
-    return cloth::limitStrain(*mAsset->levels[mLevel].cloth, context.dt, limit, lane(), mMoved, mLimitWork);
+    int passes = 0;
+    const Status s = cloth::limitStrain(*mAsset->levels[mLevel].cloth, context.dt, limit, lane(),
+                                        mMoved, mLimitWork, &passes);
+    if (outLimited)
+        *outLimited = passes > 1; // a first sweep that found every edge within the limit ends it
+    return s;
 }
 
 cloth::SubstepLane GarmentInstance::lane() {
@@ -407,9 +413,13 @@ Status GarmentInstance::finish(CharacterInstance& character, const cloth::Subste
         // of the last push, kept, pulled vertices that had slid along the body back onto planes
         // no longer under them, and missed those the limit pulled deeper than the thickness (the
         // humanoid suite: 713 -> 603 of 3,060 updates over the limit, vertex checks inside the
-        // body 194 -> 60).
+        // body 194 -> 60). When the limit moved nothing, the gather is for nothing: the cape on
+        // the walking mannequin never met its limit in 480 updates, and the gather was 0.13 of its
+        // 1.2 ms an update.
         auto limitThenSurface = [&]() -> Status {
-            if (Status s = limitAroundMoved(strainSettings); !s) return s;
+            bool limited = false;
+            if (Status s = limitAroundMoved(strainSettings, &limited); !s) return s;
+            if (!limited) return Status::ok();
             reachAsFarAsMoved();
             if (Status s = stage.gather(colliders, mPositions, mPositions, reaching, mContacts); !s)
                 return s;

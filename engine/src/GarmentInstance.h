@@ -177,8 +177,10 @@ private:
     /// Mean of (1 - length / rest length) over the level's strain-limited edges, where shorter:
     /// the compression the state holds.
     double meanEdgeShortening() const;
-    /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses).
-    Status limitAroundMoved(const cloth::SubstepSettings& strainSettings);
+    /// The strain limit with the vertices flagged in mMoved held (at least kCorrectionLimitPasses);
+    /// `outLimited`: whether it moved any vertex.
+    Status limitAroundMoved(const cloth::SubstepSettings& strainSettings,
+                            bool* outLimited = nullptr);
     /// Edges over the strain limit that pass through the body with both ends outside (a limb
     /// between two vertices) move round it: their free ends go along the nearest way out of the
     /// body from the middle of the crossing, flagged in mMoved. EdgeUntangle.cpp.
