@@ -322,8 +322,8 @@ Status GarmentInstance::limitAroundMoved(const cloth::SubstepSettings& strainSet
     cloth::SubstepSettings limit = strainSettings;
     limit.strainLimitPasses = std::max(limit.strainLimitPasses, kCorrectionLimitPasses);
     int passes = 0;
-    const Status s = cloth::limitStrain(*mAsset->levels[mLevel].cloth, context.dt, limit, lane(),
-                                        mMoved, mLimitWork, &passes);
+    Status s = cloth::limitStrain(*mAsset->levels[mLevel].cloth, context.dt, limit, lane(),
+                                  mMoved, mLimitWork, &passes);
     if (outLimited)
         *outLimited = passes > 1; // a first sweep that found every edge within the limit ends it
     return s;
