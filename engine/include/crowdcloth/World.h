@@ -63,10 +63,10 @@ struct CC_API WorldDesc {
                                       ///< garments on screen (separating planes in the solve, a
                                       ///< continuous pass after it; its cost counted in the budget);
                                       ///< 1.0-2.3x a garment's own solve on a walking mannequin
-                                      ///< (cc_crowd --self-collision). Off by default: turned on for
-                                      ///< a garment that came close already tangled, it holds the
-                                      ///< crossings in place at 8-25 ms an update (README,
-                                      ///< Self-collision); and a garment at rest moves more with it
+                                      ///< (cc_crowd --self-collision). Off by default: in the crowd,
+                                      ///< turned on for a garment that walked without it, it ran the
+                                      ///< fail-safe at 8-25 ms an update (README, Self-collision);
+                                      ///< and a garment at rest moves more with it
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
     Status validate() const;
