@@ -64,9 +64,9 @@ struct CC_API WorldDesc {
                                       ///< continuous pass after it; its cost counted in the budget);
                                       ///< 1.0-2.3x a garment's own solve on a walking mannequin
                                       ///< (cc_crowd --self-collision). Off by default: in the crowd,
-                                      ///< turned on for a garment that walked without it, it ran the
-                                      ///< fail-safe at 8-25 ms an update (README, Self-collision);
-                                      ///< and a garment at rest moves more with it
+                                      ///< turned on for a garment already crossing itself, it holds
+                                      ///< the crossings and runs the fail-safe at 8-25 ms an update
+                                      ///< (README, Self-collision); a garment at rest moves more
     bool spendSlack = true;           ///< budget left after every garment meets the tolerance refines
                                       ///< the garments that gain most (false: stop at the tolerance)
     Status validate() const;
