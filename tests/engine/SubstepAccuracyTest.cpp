@@ -30,7 +30,8 @@ using detail::WindowScene;
 
 /// The study's World desc giving `level` the effort `e`.
 Result<WorldDesc> descFor(const WindowScene& scene, int level, WorldDesc::Effort e) {
-    return detail::descGiving(detail::studyDesc(1, 1, 0.1), level, scene.levelCount, e);
+    return detail::descGiving(detail::studyDesc(1, 1, WorldDesc{}.strainLimit), level,
+                              scene.levelCount, e);
 }
 
 /// Median RMS error [mm] of each effort against the same level converged at 32 x 40; empty when a
